@@ -1,0 +1,47 @@
+// G-buffer: one primary ray per pixel (jittered per frame when `jitter` is
+// 1, for accumulation). Writes hit position and distance, the shading
+// normal faced toward the camera, and (material, object) ids.
+// A miss stores distance -1 and the ray direction in xyz, object NO_HIT.
+#import intersect
+#import rng
+
+struct Params {
+    jitter: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, write>;
+
+const SALT: u32 = 0x67627566u;
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
+    var jitter = vec2f(0.5);
+    if params.jitter != 0u {
+        jitter = rand2(&rng);
+    }
+    let ro = frame.camera.origin;
+    let rd = camera_dir(frame.camera, id.xy, jitter);
+    let hit = trace_closest(ro, rd, 3.0e38);
+    if !hit_found(hit) {
+        textureStore(gbuf_pos, id.xy, vec4f(rd, -1.0));
+        textureStore(gbuf_normal, id.xy, vec4f(0.0));
+        textureStore(gbuf_id, id.xy, vec4u(NO_HIT, NO_HIT, 0u, 0u));
+        return;
+    }
+    // Two-sided surfaces: face the normals toward the viewer.
+    let flip = select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
+    var n = hit.normal * flip;
+    if dot(n, rd) > 0.0 {
+        n = hit.geo_normal * flip;
+    }
+    textureStore(gbuf_pos, id.xy, vec4f(ro + hit.t * rd, hit.t));
+    textureStore(gbuf_normal, id.xy, vec4f(n, 0.0));
+    textureStore(gbuf_id, id.xy, vec4u(hit.material, hit.object, 0u, 0u));
+}

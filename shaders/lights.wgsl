@@ -1,0 +1,86 @@
+// Direct lighting, multiplied into the albedo and added to `lit`.
+//   SPHERE_MODE 0: sphere lights are skipped (another pass handles them)
+//               1: point mode, one shadow ray to the light centre, I = L pi r^2
+//               2: area mode, `samples` cone samples per light with shadow rays
+//   POINT_LIGHTS: whether point lights are shaded here.
+// Falloff 0 is physical (inverse square); 1 is the thesis's exponential,
+// exp(-falloff_k d) in place of 1/d^2.
+#import lights
+#import rng
+
+override SPHERE_MODE: u32 = 2u;
+override POINT_LIGHTS: bool = true;
+
+struct Params {
+    samples: u32,
+    falloff: u32,
+    falloff_k: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var gbuf_pos: texture_2d<f32>;
+@group(0) @binding(2) var gbuf_normal: texture_2d<f32>;
+@group(0) @binding(3) var gbuf_id: texture_2d<u32>;
+@group(0) @binding(4) var albedo: texture_2d<f32>;
+@group(0) @binding(5) var lit_in: texture_2d<f32>;
+@group(0) @binding(6) var lit: texture_storage_2d<rgba32float, write>;
+
+const SALT: u32 = 0x6c696768u;
+
+// Replaces the physical 1/d^2 with the thesis's exponential when asked.
+fn falloff_scale(d: f32) -> f32 {
+    if params.falloff == 1u {
+        return d * d * exp(-params.falloff_k * d);
+    }
+    return 1.0;
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let before = textureLoad(lit_in, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy, 0);
+    if ids.y == 0xffffffffu || is_emissive(scene_materials[ids.x]) {
+        textureStore(lit, id.xy, before);
+        return;
+    }
+    let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
+    let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
+    // The diffuse share of the surface; the specular share is the
+    // reflections pass's to shade.
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - scene_materials[ids.x].specular);
+    let o = offset_ray(p, n);
+    var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
+    var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
+    for (var i = 0u; i < frame.n_lights; i++) {
+        var l = scene_lights[i];
+        if l.kind == LIGHT_POINT && !POINT_LIGHTS {
+            continue;
+        }
+        if l.kind == LIGHT_SPHERE {
+            if SPHERE_MODE == 0u {
+                continue;
+            }
+            if SPHERE_MODE == 1u {
+                // Raster style: the far-field point light of the sphere.
+                l.color = l.color * PI * l.radius * l.radius;
+                l.kind = LIGHT_POINT;
+            }
+        }
+        let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
+        var sum = vec3f(0.0);
+        for (var k = 0u; k < count; k++) {
+            let s = sample_light(l, o, rand2(&rng));
+            let cos_n = dot(n, s.dir);
+            if !s.valid || cos_n <= 0.0 || !light_visible(o, s) {
+                continue;
+            }
+            sum += s.weight * cos_n * falloff_scale(length(l.position - p));
+        }
+        irradiance += sum / f32(count);
+    }
+    let radiance = finite_or_zero(base / PI * irradiance);
+    textureStore(lit, id.xy, vec4f(before.rgb + radiance, 1.0));
+}

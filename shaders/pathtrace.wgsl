@@ -1,0 +1,121 @@
+// Ground truth (thesis 2.4): Monte Carlo path tracing with Lambertian
+// diffuse and a specular lobe chosen with probability `specular` (mirror
+// direction blended toward a diffuse one by `roughness`). Next-event
+// estimation on the diffuse lobe, combined with BSDF sampling by the power
+// heuristic, so the image converges to the same answer as plain path
+// tracing. Russian roulette after `rr_depth` bounces.
+#import lights
+#import rng
+
+struct Params {
+    spp: u32,
+    max_depth: u32,
+    rr_depth: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, write>;
+
+const SALT: u32 = 0x70617468u;
+
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    return a2 / max(a2 + b * b, 1e-30);
+}
+
+fn trace_path(ro_in: vec3f, rd_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
+    var ro = ro_in;
+    var rd = rd_in;
+    var throughput = vec3f(1.0);
+    var result = vec3f(0.0);
+    // The BSDF pdf of the last bounce if it was diffuse (then a light hit
+    // is weighted against NEE), or a negative value (camera / specular).
+    var bsdf_pdf = -1.0;
+    var prev_p = ro;
+    for (var depth = 0u; depth < params.max_depth; depth++) {
+        let hit = trace_closest(ro, rd, 3.0e38);
+        if !hit_found(hit) {
+            result += throughput * frame.background;
+            break;
+        }
+        let m = scene_materials[hit.material];
+        let p = ro + hit.t * rd;
+        if is_emissive(m) {
+            var w = 1.0;
+            if hit.light >= 0 && bsdf_pdf > 0.0 {
+                w = power_heuristic(bsdf_pdf, light_pdf(scene_lights[u32(hit.light)], prev_p));
+            }
+            result += throughput * m.emission * w;
+        }
+        if hit.light >= 0 {
+            break; // lights do not reflect
+        }
+        let flip = select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
+        let ng = hit.geo_normal * flip;
+        var n = hit.normal * flip;
+        if dot(n, rd) > 0.0 {
+            n = ng;
+        }
+        let o = offset_ray(p, ng);
+        if rand_f32(rng) < m.specular {
+            var dir = reflect(rd, n);
+            if m.roughness > 0.0 {
+                dir = normalize(mix(dir, sample_cosine(n, rand2(rng)), m.roughness));
+            }
+            if dot(dir, ng) <= 0.0 {
+                break;
+            }
+            throughput *= m.albedo;
+            bsdf_pdf = -1.0;
+            rd = dir;
+        } else {
+            // Next-event estimation: every light, one sample each.
+            for (var i = 0u; i < frame.n_lights; i++) {
+                let l = scene_lights[i];
+                let s = sample_light(l, o, rand2(rng));
+                let cos_n = dot(n, s.dir);
+                if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 || !light_visible(o, s) {
+                    continue;
+                }
+                var w = 1.0;
+                if s.pdf > 0.0 {
+                    w = power_heuristic(s.pdf, cos_n / PI);
+                }
+                result += throughput * m.albedo / PI * s.weight * cos_n * w;
+            }
+            let dir = sample_cosine(n, rand2(rng));
+            let cos_d = dot(n, dir);
+            if dot(dir, ng) <= 0.0 || cos_d <= 0.0 {
+                break;
+            }
+            throughput *= m.albedo;
+            bsdf_pdf = cos_d / PI;
+            rd = dir;
+        }
+        prev_p = o;
+        ro = o;
+        if depth + 1u >= params.rr_depth {
+            let q = min(max3(throughput), 0.95);
+            if rand_f32(rng) >= q {
+                break;
+            }
+            throughput /= q;
+        }
+    }
+    return finite_or_zero(result);
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
+    let spp = max(params.spp, 1u);
+    var sum = vec3f(0.0);
+    for (var s = 0u; s < spp; s++) {
+        let rd = camera_dir(frame.camera, id.xy, rand2(&rng));
+        sum += trace_path(frame.camera.origin, rd, &rng);
+    }
+    textureStore(radiance, id.xy, vec4f(sum / f32(spp), 1.0));
+}

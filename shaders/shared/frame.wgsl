@@ -1,0 +1,46 @@
+// The engine's per-frame uniform (mirrors FrameGpu in src/gpu/frame.rs).
+
+struct Camera {
+    origin: vec3f,
+    tan_half_fov: f32,
+    right: vec3f,
+    aspect: f32,
+    up: vec3f,
+    _pad0: f32,
+    forward: vec3f,
+    _pad1: f32,
+}
+
+struct Frame {
+    camera: Camera,
+    prev_camera: Camera,
+    size: vec2u,
+    frame_index: u32,
+    accum_count: u32,
+    time: f32,
+    seed: u32,
+    scene_epoch: u32,
+    n_spheres: u32,
+    n_meshes: u32,
+    n_triangles: u32,
+    n_lights: u32,
+    _pad0: u32,
+    background: vec3f,
+    _pad1: f32,
+}
+
+@group(1) @binding(0) var<uniform> frame: Frame;
+
+// Direction through pixel `pixel` at sub-pixel offset `jitter` in [0,1)^2.
+// Pixel (0,0) is top-left; the camera looks along `forward`.
+fn camera_dir(cam: Camera, pixel: vec2u, jitter: vec2f) -> vec3f {
+    let size = vec2f(frame.size);
+    let p = vec2f(pixel) + jitter;
+    let sx = (2.0 * p.x / size.x - 1.0) * cam.aspect * cam.tan_half_fov;
+    let sy = (1.0 - 2.0 * p.y / size.y) * cam.tan_half_fov;
+    return normalize(cam.forward + sx * cam.right + sy * cam.up);
+}
+
+fn in_frame(id: vec3u) -> bool {
+    return id.x < frame.size.x && id.y < frame.size.y;
+}

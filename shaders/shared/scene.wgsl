@@ -1,0 +1,60 @@
+// Scene buffers (mirrors src/scene/gpu_types.rs). Counts live in `frame`.
+#import frame
+
+struct Sphere {
+    center: vec3f,
+    radius: f32,
+    material: u32,
+    light: i32,
+    object: u32,
+    _pad: u32,
+}
+
+struct Triangle {
+    p0: vec3f,
+    material: u32,
+    p1: vec3f,
+    object: u32,
+    p2: vec3f,
+    _pad0: u32,
+    n0: vec3f,
+    _pad1: f32,
+    n1: vec3f,
+    _pad2: f32,
+    n2: vec3f,
+    _pad3: f32,
+}
+
+struct Mesh {
+    bmin: vec3f,
+    first: u32,
+    bmax: vec3f,
+    count: u32,
+}
+
+struct Material {
+    albedo: vec3f,
+    specular: f32,
+    emission: vec3f,
+    roughness: f32,
+}
+
+const LIGHT_POINT: u32 = 0u;
+const LIGHT_SPHERE: u32 = 1u;
+
+struct Light {
+    position: vec3f,
+    radius: f32,
+    color: vec3f,
+    kind: u32,
+}
+
+@group(1) @binding(1) var<storage, read> scene_spheres: array<Sphere>;
+@group(1) @binding(2) var<storage, read> scene_triangles: array<Triangle>;
+@group(1) @binding(3) var<storage, read> scene_meshes: array<Mesh>;
+@group(1) @binding(4) var<storage, read> scene_materials: array<Material>;
+@group(1) @binding(5) var<storage, read> scene_lights: array<Light>;
+
+fn is_emissive(m: Material) -> bool {
+    return max(m.emission.x, max(m.emission.y, m.emission.z)) > 0.0;
+}

@@ -1,0 +1,74 @@
+//! `glint graph check` and `glint shaders`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::error::UserError;
+use crate::graph::{self, report, CompileOptions};
+use crate::scene::{self, SceneFeatures};
+use crate::shader;
+
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    /// The graph file (RON).
+    pub file: PathBuf,
+    /// Cull and specialise for this scene's features (else: all features).
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Print Graphviz instead of text.
+    #[arg(long)]
+    pub dot: bool,
+    /// Render size for the memory figures.
+    #[arg(long, default_value = "256x256", value_parser = super::parse_size)]
+    pub size: (u32, u32),
+    /// Shader folder (default: ../shaders next to the graph's folder).
+    #[arg(long)]
+    pub shaders: Option<PathBuf>,
+}
+
+pub fn check(args: CheckArgs) -> Result<(), UserError> {
+    let features = match &args.scene {
+        Some(path) => scene::load(path)?.features,
+        None => SceneFeatures::all(),
+    };
+    let dir = args.shaders.clone().unwrap_or_else(|| graph::shader_dir_for(&args.file));
+    let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions::default())?;
+    if args.dot {
+        print!("{}", report::dot(&compiled.schedule));
+    } else {
+        print!("{}", report::text(&compiled.schedule, args.size));
+    }
+    Ok(())
+}
+
+pub fn check_shaders(files: Vec<String>, dir: Option<PathBuf>) -> Result<(), UserError> {
+    let dir = dir.unwrap_or_else(|| PathBuf::from("shaders"));
+    let files = if files.is_empty() { shader_files(&dir)? } else { files };
+    let mut failed = Vec::new();
+    for f in &files {
+        match shader::load(&dir, f) {
+            Ok(s) => println!("ok   {f} ({} entry points)", s.info.entry_points.len()),
+            Err(e) => {
+                println!("FAIL {e}");
+                failed.push(e);
+            }
+        }
+    }
+    match failed.into_iter().next() {
+        None => Ok(()),
+        Some(e) => Err(e),
+    }
+}
+
+/// The pass shaders directly in `dir` (not shared/), sorted.
+pub fn shader_files(dir: &std::path::Path) -> Result<Vec<String>, UserError> {
+    let entries = std::fs::read_dir(dir).map_err(|e| UserError::in_file(dir, format!("cannot list shaders: {e}")))?;
+    let mut files: Vec<String> = entries
+        .filter_map(|e| e.ok())
+        .filter_map(|e| e.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".wgsl"))
+        .collect();
+    files.sort();
+    Ok(files)
+}

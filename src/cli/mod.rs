@@ -1,0 +1,69 @@
+//! The `glint` command line.
+
+mod graph_cmd;
+mod render_cmd;
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+use crate::error::UserError;
+
+#[derive(Parser, Debug)]
+#[command(name = "glint", version, about = "A real-time ray tracer in WGSL compute shaders")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene headless to a PNG (sRGB) or EXR (linear) file.
+    Render(render_cmd::RenderArgs),
+    /// Frame graph tools.
+    Graph {
+        #[command(subcommand)]
+        command: GraphCommand,
+    },
+    /// Validate WGSL shaders with naga (all of shaders/ when none are named).
+    Shaders {
+        /// Shader files under the shader folder, e.g. lights.wgsl.
+        files: Vec<String>,
+        #[arg(long)]
+        dir: Option<PathBuf>,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+pub enum GraphCommand {
+    /// Compile a graph and print its schedule.
+    Check(graph_cmd::CheckArgs),
+}
+
+/// Parses `WxH`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("`{s}` is not a size; write WxH, e.g. 256x256"))?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("`{w}` is not a whole number of pixels"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("`{h}` is not a whole number of pixels"))?;
+    if w == 0 || h == 0 {
+        return Err(format!("the size {w}x{h} is empty; both sides must be at least 1"));
+    }
+    Ok((w, h))
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn main() -> i32 {
+    let cli = Cli::parse();
+    let result: Result<(), UserError> = match cli.command {
+        Command::Render(args) => render_cmd::run(args),
+        Command::Graph { command: GraphCommand::Check(args) } => graph_cmd::check(args),
+        Command::Shaders { files, dir } => graph_cmd::check_shaders(files, dir),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e}");
+            crate::gpu::EXIT_USER_ERROR
+        }
+    }
+}

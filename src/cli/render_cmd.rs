@@ -1,0 +1,129 @@
+//! `glint render`: headless rendering to a file, with timings.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+
+use crate::error::UserError;
+use crate::gpu::Gpu;
+use crate::graph::{self, CompileOptions};
+use crate::machines::{DeviceType, Machines};
+use crate::metrics::median;
+use crate::render::{check_size, Renderer};
+use crate::{image_io, scene};
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// The scene file (RON).
+    pub scene: PathBuf,
+    /// Frame graph (default: from passes/machines.ron for this adapter).
+    #[arg(long)]
+    pub graph: Option<PathBuf>,
+    #[arg(long, default_value = "256x256", value_parser = super::parse_size)]
+    pub size: (u32, u32),
+    /// Frames to render (accumulated when the graph accumulates).
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Scene time in seconds (moving lights and objects).
+    #[arg(long, default_value_t = 0.0)]
+    pub time: f32,
+    /// Seconds the scene advances per frame (0: a still image).
+    #[arg(long, default_value_t = 0.0)]
+    pub dt: f32,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// Output file: .png (sRGB) or .exr (linear).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Write this graph resource instead of the graph's output (debugging).
+    #[arg(long)]
+    pub output: Option<String>,
+}
+
+/// Picks the graph: `--graph`, else the machine profile's.
+fn choose_graph(args: &RenderArgs, gpu: &Gpu) -> Result<PathBuf, UserError> {
+    if let Some(g) = &args.graph {
+        return Ok(g.clone());
+    }
+    let machines = Path::new("passes/machines.ron");
+    let machines = if machines.is_file() {
+        machines.to_path_buf()
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/machines.ron")
+    };
+    let m = Machines::load(&machines)?;
+    let p = m.pick(DeviceType::of(gpu.info.device_type), &gpu.info.name);
+    Ok(machines.parent().unwrap_or(Path::new(".")).join(&p.graph))
+}
+
+pub fn run(args: RenderArgs) -> Result<(), UserError> {
+    if args.frames == 0 {
+        return Err(UserError::new("--frames 0 renders nothing; give at least 1"));
+    }
+    let ext = args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
+        return Err(UserError::in_file(&args.out, "the output must end in .png or .exr"));
+    }
+    let scene = scene::load(&args.scene)?;
+    let gpu = Gpu::new()?;
+    check_size(&gpu, args.size)?;
+    let graph_path = choose_graph(&args, &gpu)?;
+    let options = CompileOptions { output: args.output.clone() };
+    let compiled = graph::load_and_compile(&graph_path, &graph::shader_dir_for(&graph_path), &scene.features, &options)?;
+    eprintln!(
+        "glint: {} on {}, graph `{}` ({} passes, {} culled), {}x{}, {} frame(s)",
+        args.scene.display(),
+        gpu.describe(),
+        compiled.schedule.name,
+        compiled.schedule.passes.len(),
+        compiled.schedule.culled.len(),
+        args.size.0,
+        args.size.1,
+        args.frames
+    );
+    let mut renderer = Renderer::new(&gpu, scene, &compiled, args.size, args.seed)?;
+    let bar = indicatif::ProgressBar::new(u64::from(args.frames));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames, {elapsed} (eta {eta})")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let start = Instant::now();
+    let mut frame_ms = Vec::new();
+    let mut pass_ms: Vec<Vec<f64>> = vec![Vec::new(); renderer.executor.pass_names().len()];
+    for i in 0..args.frames {
+        let t0 = Instant::now();
+        let ms = renderer.frame(&gpu, args.time + args.dt * i as f32, true)?;
+        frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        if let Some(ms) = ms {
+            for (acc, m) in pass_ms.iter_mut().zip(ms) {
+                acc.push(m);
+            }
+        }
+        if start.elapsed().as_secs_f32() > 1.0 {
+            bar.set_position(u64::from(i + 1));
+        }
+    }
+    bar.finish_and_clear();
+    let image = renderer.read_output(&gpu)?;
+    image_io::save(&image, &args.out)?;
+    let gpu_total: f64 = pass_ms.iter().map(|v| median(v)).sum();
+    println!(
+        "wrote {} ({}x{}); {} frames in {:.2} s; median {:.2} ms/frame wall, {:.2} ms/frame GPU",
+        args.out.display(),
+        args.size.0,
+        args.size.1,
+        args.frames,
+        start.elapsed().as_secs_f64(),
+        median(&frame_ms),
+        gpu_total
+    );
+    for (name, ms) in renderer.executor.pass_names().iter().zip(&pass_ms) {
+        if !ms.is_empty() {
+            println!("  {name:<16} {:8.3} ms (median GPU)", median(ms));
+        }
+    }
+    let mem = compiled.schedule.memory(args.size);
+    println!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);
+    Ok(())
+}

@@ -1,0 +1,108 @@
+//! User-facing errors: every problem with user input (graph, scene, shader,
+//! OBJ, command-line values) becomes one of these, printed as one paragraph
+//! that names the file, the line where there is one, and what to fix.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A position in a user's file. `line` and `col` are 1-based; 0 means unknown.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Location {
+    pub file: PathBuf,
+    pub line: usize,
+    pub col: usize,
+}
+
+impl Location {
+    pub fn file(file: impl Into<PathBuf>) -> Self {
+        Location { file: file.into(), line: 0, col: 0 }
+    }
+    pub fn at(file: impl Into<PathBuf>, line: usize, col: usize) -> Self {
+        Location { file: file.into(), line, col }
+    }
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if self.line > 0 {
+            write!(f, ":{}", self.line)?;
+            if self.col > 0 {
+                write!(f, ":{}", self.col)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An error caused by user input. `Display` gives `file:line:col: message`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UserError {
+    pub location: Option<Location>,
+    pub message: String,
+}
+
+impl UserError {
+    pub fn new(message: impl Into<String>) -> Self {
+        UserError { location: None, message: message.into() }
+    }
+    pub fn at(location: Location, message: impl Into<String>) -> Self {
+        UserError { location: Some(location), message: message.into() }
+    }
+    pub fn in_file(file: &Path, message: impl Into<String>) -> Self {
+        UserError::at(Location::file(file), message)
+    }
+}
+
+impl fmt::Display for UserError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.location {
+            Some(loc) => write!(f, "{loc}: {}", self.message),
+            None => write!(f, "{}", self.message),
+        }
+    }
+}
+
+impl std::error::Error for UserError {}
+
+/// The 1-based line of the first occurrence of `needle` in `text`, if any.
+/// RON gives positions only for syntax errors; semantic errors (an unknown
+/// material, a bad radius) find their line by looking for the offending text.
+pub fn line_of(text: &str, needle: &str) -> Option<usize> {
+    text.find(needle).map(|at| text[..at].matches('\n').count() + 1)
+}
+
+/// The 1-based line of the `n`-th (0-based) occurrence of `needle` at or
+/// after byte `from`.
+pub fn line_of_nth(text: &str, needle: &str, n: usize, from: usize) -> Option<usize> {
+    let mut start = from.min(text.len());
+    for _ in 0..n {
+        let at = text[start..].find(needle)?;
+        start += at + needle.len();
+    }
+    let at = start + text[start..].find(needle)?;
+    Some(text[..at].matches('\n').count() + 1)
+}
+
+/// Converts a RON parse error into a `UserError` at its position.
+pub fn ron_error(file: &Path, err: &ron::error::SpannedError) -> UserError {
+    UserError::at(
+        Location::at(file, err.span.start.line, err.span.start.col),
+        format!("{}", err.code),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_are_one_based() {
+        let t = "a\nbb\nccc bb\n";
+        assert_eq!(line_of(t, "a"), Some(1));
+        assert_eq!(line_of(t, "bb"), Some(2));
+        assert_eq!(line_of_nth(t, "bb", 1, 0), Some(3));
+        assert_eq!(line_of_nth(t, "bb", 2, 0), None);
+        assert_eq!(line_of(t, "zz"), None);
+    }
+}

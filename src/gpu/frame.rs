@@ -1,0 +1,71 @@
+//! The `frame` uniform: camera, previous camera, frame counters and scene
+//! counts. Mirrors `struct Frame` in `shaders/shared/frame.wgsl`.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use crate::scene::Camera;
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct CameraGpu {
+    pub origin: [f32; 3],
+    /// tan(vfov / 2)
+    pub tan_half_fov: f32,
+    pub right: [f32; 3],
+    /// width / height
+    pub aspect: f32,
+    pub up: [f32; 3],
+    pub _pad0: f32,
+    pub forward: [f32; 3],
+    pub _pad1: f32,
+}
+
+impl CameraGpu {
+    /// An orthonormal camera basis (right-handed, looking along `forward`).
+    pub fn new(c: &Camera, size: (u32, u32)) -> CameraGpu {
+        let forward = (c.target - c.position).try_normalize().unwrap_or(Vec3::NEG_Z);
+        let right = forward.cross(c.up).try_normalize().unwrap_or(Vec3::X);
+        let up = right.cross(forward);
+        CameraGpu {
+            origin: c.position.to_array(),
+            tan_half_fov: (c.vfov_deg.to_radians() * 0.5).tan(),
+            right: right.to_array(),
+            aspect: size.0 as f32 / size.1.max(1) as f32,
+            up: up.to_array(),
+            _pad0: 0.0,
+            forward: forward.to_array(),
+            _pad1: 0.0,
+        }
+    }
+
+    /// The primary ray direction through pixel `(x, y)` at sub-pixel
+    /// offset `(jx, jy)` in [0, 1): the same formula as `camera_ray` in WGSL.
+    pub fn ray_dir(&self, x: f32, y: f32, jx: f32, jy: f32, size: (u32, u32)) -> Vec3 {
+        let sx = (2.0 * (x + jx) / size.0 as f32 - 1.0) * self.aspect * self.tan_half_fov;
+        let sy = (1.0 - 2.0 * (y + jy) / size.1 as f32) * self.tan_half_fov;
+        (Vec3::from(self.forward) + sx * Vec3::from(self.right) + sy * Vec3::from(self.up)).normalize()
+    }
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FrameGpu {
+    pub camera: CameraGpu,
+    pub prev_camera: CameraGpu,
+    pub size: [u32; 2],
+    /// Frames rendered since start (drives per-frame randomness).
+    pub frame_index: u32,
+    /// Frames already in the accumulation history (0 = reset).
+    pub accum_count: u32,
+    pub time: f32,
+    pub seed: u32,
+    pub scene_epoch: u32,
+    pub n_spheres: u32,
+    pub n_meshes: u32,
+    pub n_triangles: u32,
+    pub n_lights: u32,
+    pub _pad0: u32,
+    pub background: [f32; 3],
+    pub _pad1: f32,
+}

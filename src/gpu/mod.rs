@@ -1,0 +1,98 @@
+//! The wgpu context: instance, adapter, device and queue, headless by
+//! default. Also texture readback and timestamp queries.
+
+pub mod frame;
+pub mod readback;
+pub mod scene_buffers;
+pub mod timing;
+
+use crate::error::UserError;
+
+/// Exit code for "no usable GPU adapter" and other user-fixable problems.
+pub const EXIT_USER_ERROR: i32 = 2;
+
+pub struct Gpu {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    /// Timestamp queries available (per-pass GPU timings).
+    pub timestamps: bool,
+}
+
+const NO_ADAPTER_HELP: &str = "no GPU adapter found. glint needs Vulkan, Metal or DX12; on a machine \
+without a GPU, install Mesa's CPU driver (Debian/Ubuntu: `apt-get install -y mesa-vulkan-drivers`) \
+and run with WGPU_BACKEND=vulkan. WGPU_ADAPTER_NAME=<substring> picks an adapter by name.";
+
+impl Gpu {
+    /// Creates a headless context. The adapter comes from `WGPU_BACKEND`
+    /// (vulkan, metal, dx12, gl) and `WGPU_ADAPTER_NAME`, else the best one.
+    pub fn new() -> Result<Gpu, UserError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Gpu, UserError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pick_adapter(&instance).await.ok_or_else(|| UserError::new(NO_ADAPTER_HELP))?;
+        let info = adapter.get_info();
+        let wanted = wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+            | wgpu::Features::SUBGROUP;
+        let features = adapter.features() & wanted;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("glint"),
+                required_features: features,
+                required_limits: adapter.limits(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| UserError::new(format!("the adapter `{}` refused a device: {e}", info.name)))?;
+        Ok(Gpu {
+            timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+            instance,
+            adapter,
+            device,
+            queue,
+            info,
+        })
+    }
+
+    pub fn describe(&self) -> String {
+        format!("{} ({:?}, {:?})", self.info.name, self.info.device_type, self.info.backend)
+    }
+
+    /// Largest 2D texture side this device takes.
+    pub fn max_texture_side(&self) -> u32 {
+        self.device.limits().max_texture_dimension_2d
+    }
+
+    /// Waits for all submitted work.
+    pub fn wait(&self) {
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+    }
+}
+
+async fn pick_adapter(instance: &wgpu::Instance) -> Option<wgpu::Adapter> {
+    let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
+    let adapters = instance.enumerate_adapters(backends).await;
+    if let Ok(name) = std::env::var("WGPU_ADAPTER_NAME") {
+        let name = name.to_lowercase();
+        return adapters.into_iter().find(|a| a.get_info().name.to_lowercase().contains(&name));
+    }
+    // Prefer discrete, then integrated, then anything; Vulkan over GL.
+    let rank = |a: &wgpu::Adapter| {
+        let i = a.get_info();
+        let ty = match i.device_type {
+            wgpu::DeviceType::DiscreteGpu => 0,
+            wgpu::DeviceType::IntegratedGpu => 1,
+            wgpu::DeviceType::VirtualGpu => 2,
+            wgpu::DeviceType::Cpu => 3,
+            wgpu::DeviceType::Other => 4,
+        };
+        let backend = if i.backend == wgpu::Backend::Gl { 1 } else { 0 };
+        (backend, ty)
+    };
+    adapters.into_iter().min_by_key(rank)
+}

@@ -1,0 +1,169 @@
+//! The RON schema of a frame graph (DESIGN.md section 3). A graph file knows
+//! nothing about wgpu: resources, passes and the output.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::error::{ron_error, UserError};
+use crate::scene::Feature;
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameGraph {
+    pub name: String,
+    #[serde(default)]
+    pub resources: BTreeMap<String, ResourceDesc>,
+    pub passes: Vec<PassDesc>,
+    pub output: String,
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub enum ResourceDesc {
+    Texture(TextureDesc),
+}
+
+/// `Texture(format: .., size: .., history: ..)` (RON's unwrapped newtype).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureDesc {
+    pub format: TexFormat,
+    #[serde(default)]
+    pub size: SizeDesc,
+    /// Survives across frames (read at version 0 = last frame's result).
+    #[serde(default)]
+    pub history: bool,
+}
+
+/// Texture formats a graph may declare: the storage-capable WGSL formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
+pub enum TexFormat {
+    R32Float,
+    Rg32Float,
+    Rgba32Float,
+    Rgba16Float,
+    R32Uint,
+    Rg32Uint,
+    Rgba32Uint,
+    Rgba8Unorm,
+}
+
+impl TexFormat {
+    pub fn bytes_per_pixel(self) -> u64 {
+        match self {
+            TexFormat::R32Float | TexFormat::R32Uint | TexFormat::Rgba8Unorm => 4,
+            TexFormat::Rg32Float | TexFormat::Rg32Uint | TexFormat::Rgba16Float => 8,
+            TexFormat::Rgba32Float | TexFormat::Rgba32Uint => 16,
+        }
+    }
+
+    /// The WGSL spelling (`rgba32float`), as in `texture_storage_2d<rgba32float, write>`.
+    pub fn wgsl_name(self) -> &'static str {
+        match self {
+            TexFormat::R32Float => "r32float",
+            TexFormat::Rg32Float => "rg32float",
+            TexFormat::Rgba32Float => "rgba32float",
+            TexFormat::Rgba16Float => "rgba16float",
+            TexFormat::R32Uint => "r32uint",
+            TexFormat::Rg32Uint => "rg32uint",
+            TexFormat::Rgba32Uint => "rgba32uint",
+            TexFormat::Rgba8Unorm => "rgba8unorm",
+        }
+    }
+
+    /// Whether a sampled binding reads this format as `texture_2d<u32>`.
+    pub fn is_uint(self) -> bool {
+        matches!(self, TexFormat::R32Uint | TexFormat::Rg32Uint | TexFormat::Rgba32Uint)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Default)]
+pub enum SizeDesc {
+    /// The render size.
+    #[default]
+    Screen,
+    /// The render size times a factor (at least 1x1).
+    Scaled(f32),
+    Fixed(u32, u32),
+}
+
+impl SizeDesc {
+    pub fn resolve(self, screen: (u32, u32)) -> (u32, u32) {
+        match self {
+            SizeDesc::Screen => screen,
+            SizeDesc::Scaled(s) => (
+                ((screen.0 as f32 * s).round() as u32).max(1),
+                ((screen.1 as f32 * s).round() as u32).max(1),
+            ),
+            SizeDesc::Fixed(w, h) => (w.max(1), h.max(1)),
+        }
+    }
+}
+
+/// A value for one member of a pass's `params` uniform.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum ParamValue {
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Vector(Vec<f64>),
+}
+
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[serde(rename = "Pass")]
+pub struct PassDesc {
+    pub name: String,
+    /// File name under `shaders/`.
+    pub shader: String,
+    /// Compute entry point; the shader's only one when omitted.
+    #[serde(default)]
+    pub entry: Option<String>,
+    /// Members of the shader's `params` uniform, by name.
+    #[serde(default, deserialize_with = "named_map")]
+    pub params: BTreeMap<String, ParamValue>,
+    /// WGSL `override` constants, by name.
+    #[serde(default, deserialize_with = "named_map")]
+    pub constants: BTreeMap<String, f64>,
+    /// Scene features this pass needs; culled when the scene lacks one.
+    #[serde(default)]
+    pub requires: Vec<Feature>,
+    /// Shader variable name -> graph resource name, for names that differ.
+    #[serde(default, deserialize_with = "named_map")]
+    pub bind: BTreeMap<String, String>,
+}
+
+/// A map key written bare (`{ samples: 1 }`, as in DESIGN.md) or quoted
+/// (`{ "src": "lit" }`). Untagged enums go through serde's buffered content,
+/// for which RON hands bare identifiers over as strings.
+#[derive(Deserialize, PartialEq, Eq, PartialOrd, Ord)]
+#[serde(untagged)]
+enum Name {
+    Name(String),
+}
+
+fn named_map<'de, D, V>(d: D) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    let map: BTreeMap<Name, V> = BTreeMap::deserialize(d)?;
+    Ok(map.into_iter().map(|(Name::Name(k), v)| (k, v)).collect())
+}
+
+impl FrameGraph {
+    pub fn parse(text: &str, path: &Path) -> Result<FrameGraph, UserError> {
+        ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES)
+            .from_str(text)
+            .map_err(|e| ron_error(path, &e))
+    }
+
+    pub fn load(path: &Path) -> Result<FrameGraph, UserError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| UserError::in_file(path, format!("cannot read the graph file: {e}")))?;
+        Self::parse(&text, path)
+    }
+}

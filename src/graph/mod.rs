@@ -1,0 +1,83 @@
+//! The frame graph: RON schema (`desc`), the pure `compile` step, the
+//! compiled `Schedule`, printing (`report`) and the wgpu `executor`.
+
+pub mod compile;
+pub mod desc;
+pub mod executor;
+pub mod report;
+pub mod schedule;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::error::{line_of, Location, UserError};
+use crate::scene::SceneFeatures;
+use crate::shader::{self, Shader, ShaderInfo};
+pub use compile::{compile, CompileError, CompileOptions, ErrorKind};
+pub use desc::FrameGraph;
+pub use schedule::*;
+
+/// A graph with its shaders loaded and its schedule compiled.
+#[derive(Debug, Clone)]
+pub struct CompiledGraph {
+    pub path: PathBuf,
+    pub desc: FrameGraph,
+    pub shaders: BTreeMap<String, Shader>,
+    pub schedule: Schedule,
+}
+
+/// The `shaders/` folder for a graph file: `../shaders` next to its folder,
+/// else `./shaders`, else the one this crate was built from.
+pub fn shader_dir_for(graph: &Path) -> PathBuf {
+    let beside = graph.parent().and_then(Path::parent).map(|p| p.join("shaders"));
+    let candidates = [beside, Some(PathBuf::from("shaders")), Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders"))];
+    candidates
+        .into_iter()
+        .flatten()
+        .find(|p| p.is_dir())
+        .unwrap_or_else(|| PathBuf::from("shaders"))
+}
+
+/// Loads every shader a graph names. A missing file is left out (compile
+/// then reports it against the pass); a broken one is an error here.
+pub fn load_shaders(desc: &FrameGraph, dir: &Path) -> Result<BTreeMap<String, Shader>, UserError> {
+    let mut shaders = BTreeMap::new();
+    for pass in &desc.passes {
+        if shaders.contains_key(&pass.shader) || !dir.join(&pass.shader).is_file() {
+            continue;
+        }
+        shaders.insert(pass.shader.clone(), shader::load(dir, &pass.shader)?);
+    }
+    Ok(shaders)
+}
+
+pub fn reflections(shaders: &BTreeMap<String, Shader>) -> BTreeMap<String, ShaderInfo> {
+    shaders.iter().map(|(k, s)| (k.clone(), s.info.clone())).collect()
+}
+
+/// Turns a compile error into a user error located in the graph file at the
+/// pass it concerns.
+pub fn locate(e: &CompileError, path: &Path, text: &str) -> UserError {
+    let needle = match &e.pass {
+        Some(p) => format!("\"{p}\""),
+        None if e.kind == ErrorKind::UnknownOutput || e.kind == ErrorKind::UnwrittenRead => "output".to_string(),
+        None => "passes".to_string(),
+    };
+    let line = line_of(text, &needle).unwrap_or(0);
+    UserError::at(Location::at(path, line, 0), e.to_string())
+}
+
+/// Loads a graph file and its shaders and compiles it for a scene.
+pub fn load_and_compile(
+    path: &Path,
+    shader_dir: &Path,
+    features: &SceneFeatures,
+    options: &CompileOptions,
+) -> Result<CompiledGraph, UserError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| UserError::in_file(path, format!("cannot read the graph file: {e}")))?;
+    let desc = FrameGraph::parse(&text, path)?;
+    let shaders = load_shaders(&desc, shader_dir)?;
+    let schedule = compile(&desc, &reflections(&shaders), features, options).map_err(|e| locate(&e, path, &text))?;
+    Ok(CompiledGraph { path: path.to_path_buf(), desc, shaders, schedule })
+}

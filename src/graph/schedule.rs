@@ -1,0 +1,191 @@
+//! The output of `compile`: everything the executor needs, with every name
+//! already resolved to an index.
+
+use crate::graph::desc::{SizeDesc, TexFormat};
+use crate::scene::{Feature, SceneFeatures};
+use crate::shader::BindingKind;
+
+/// Buffers the engine provides, bound by name like graph resources.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EngineResource {
+    /// `var<uniform> frame: Frame` (camera, previous camera, frame index, seed, counts).
+    Frame,
+    Spheres,
+    Triangles,
+    Meshes,
+    Materials,
+    Lights,
+}
+
+impl EngineResource {
+    pub const ALL: [EngineResource; 6] = [
+        EngineResource::Frame,
+        EngineResource::Spheres,
+        EngineResource::Triangles,
+        EngineResource::Meshes,
+        EngineResource::Materials,
+        EngineResource::Lights,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            EngineResource::Frame => "frame",
+            EngineResource::Spheres => "scene_spheres",
+            EngineResource::Triangles => "scene_triangles",
+            EngineResource::Meshes => "scene_meshes",
+            EngineResource::Materials => "scene_materials",
+            EngineResource::Lights => "scene_lights",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|e| e.name() == name)
+    }
+
+    pub fn is_uniform(self) -> bool {
+        self == EngineResource::Frame
+    }
+}
+
+/// A texture reference that may alternate between two physical textures
+/// from frame to frame (history resources written out of place).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TexRef {
+    Fixed(usize),
+    /// `textures[slot ^ parity]` where the parity flips each frame when
+    /// `flips` (the resource's last write of a frame lands in slot 1).
+    PingPong { textures: [usize; 2], slot: u8, flips: bool },
+}
+
+impl TexRef {
+    pub fn resolve(self, parity: u8) -> usize {
+        match self {
+            TexRef::Fixed(i) => i,
+            TexRef::PingPong { textures, slot, flips } => textures[usize::from(slot ^ (parity & u8::from(flips)))],
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Target {
+    Texture(TexRef),
+    Engine(EngineResource),
+    /// The pass's own `params` uniform (bytes in `ScheduledPass::params`).
+    Params,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResolvedBinding {
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub kind: BindingKind,
+    pub target: Target,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScheduledPass {
+    pub name: String,
+    pub shader: String,
+    pub entry: String,
+    pub workgroup_size: [u32; 3],
+    /// Packed `params` uniform, if the shader has one.
+    pub params: Option<Vec<u8>>,
+    /// `override` constants for the pipeline.
+    pub constants: Vec<(String, f64)>,
+    pub bindings: Vec<ResolvedBinding>,
+    /// One invocation per texel of this size (the first texture written).
+    pub dispatch: SizeDesc,
+    /// Names of resource versions read and written, for printing (`lit@2`).
+    pub reads: Vec<String>,
+    pub writes: Vec<String>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum CullReason {
+    /// The scene lacks these features.
+    Requires(Vec<Feature>),
+    /// Nothing it writes reaches the output or a history resource.
+    Unreachable,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct CulledPass {
+    pub name: String,
+    pub reason: CullReason,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TexUsage {
+    pub sampled: bool,
+    pub storage: bool,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhysicalTexture {
+    /// The resources (versions) that live in it, for labels and printing.
+    pub label: String,
+    pub format: TexFormat,
+    pub size: SizeDesc,
+    pub usage: TexUsage,
+    pub history: bool,
+}
+
+/// One version of one resource and where it lives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VersionInfo {
+    pub resource: String,
+    pub version: u32,
+    pub texture: TexRef,
+    /// Schedule indices of the producing pass and of the last reader
+    /// (None for the previous frame's history version / never read).
+    pub first_use: Option<usize>,
+    pub last_use: Option<usize>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Schedule {
+    pub name: String,
+    pub features: SceneFeatures,
+    pub passes: Vec<ScheduledPass>,
+    pub culled: Vec<CulledPass>,
+    pub textures: Vec<PhysicalTexture>,
+    pub versions: Vec<VersionInfo>,
+    pub output_resource: String,
+    pub output: TexRef,
+    pub output_format: TexFormat,
+    /// Whether the ping-pong parity flips after each frame.
+    pub flips_parity: bool,
+}
+
+/// Memory figures for a schedule at a given render size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryStats {
+    pub textures: usize,
+    pub bytes: u64,
+    /// Bytes one texture per version would have taken, minus `bytes`.
+    pub bytes_saved: u64,
+}
+
+impl Schedule {
+    pub fn memory(&self, screen: (u32, u32)) -> MemoryStats {
+        let bytes_of = |format: TexFormat, size: SizeDesc| {
+            let (w, h) = size.resolve(screen);
+            u64::from(w) * u64::from(h) * format.bytes_per_pixel()
+        };
+        let bytes: u64 = self.textures.iter().map(|t| bytes_of(t.format, t.size)).sum();
+        // Without pooling or in-place aliasing: one texture per version
+        // (history resources keep what they need either way).
+        let mut unpooled = 0;
+        for v in &self.versions {
+            if let TexRef::Fixed(i) = v.texture {
+                let t = &self.textures[i];
+                if !t.history && v.first_use.is_some() {
+                    unpooled += bytes_of(t.format, t.size);
+                }
+            }
+        }
+        unpooled += self.textures.iter().filter(|t| t.history).map(|t| bytes_of(t.format, t.size)).sum::<u64>();
+        MemoryStats { textures: self.textures.len(), bytes, bytes_saved: unpooled.saturating_sub(bytes) }
+    }
+}

@@ -1,0 +1,110 @@
+//! One frame, end to end: animate the scene, upload what changed, fill the
+//! frame uniform (resetting accumulation on a scene or camera change), run
+//! the schedule.
+
+use wgpu::util::DeviceExt;
+
+use crate::error::UserError;
+use crate::gpu::frame::{CameraGpu, FrameGpu};
+use crate::gpu::readback::ImageF32;
+use crate::gpu::scene_buffers::SceneBuffers;
+use crate::gpu::Gpu;
+use crate::graph::executor::Executor;
+use crate::graph::CompiledGraph;
+use crate::scene::Scene;
+
+pub struct Renderer {
+    pub scene: Scene,
+    pub buffers: SceneBuffers,
+    pub executor: Executor,
+    frame_buffer: wgpu::Buffer,
+    pub size: (u32, u32),
+    pub seed: u32,
+    frame_index: u32,
+    accum_count: u32,
+    last: Option<(CameraGpu, u32)>,
+}
+
+/// Checks a render size against the adapter.
+pub fn check_size(gpu: &Gpu, size: (u32, u32)) -> Result<(), UserError> {
+    let max = gpu.max_texture_side();
+    if size.0 == 0 || size.1 == 0 {
+        return Err(UserError::new(format!("the size {}x{} is empty; give --size WxH with both at least 1", size.0, size.1)));
+    }
+    if size.0 > max || size.1 > max {
+        return Err(UserError::new(format!(
+            "the size {}x{} is beyond this adapter's limit of {max}x{max} ({}); render smaller",
+            size.0,
+            size.1,
+            gpu.describe()
+        )));
+    }
+    Ok(())
+}
+
+impl Renderer {
+    pub fn new(gpu: &Gpu, scene: Scene, graph: &CompiledGraph, size: (u32, u32), seed: u32) -> Result<Renderer, UserError> {
+        check_size(gpu, size)?;
+        let buffers = SceneBuffers::new(&gpu.device, scene.pack());
+        let frame_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: bytemuck::bytes_of(&FrameGpu::zeroed_frame()),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let executor = Executor::new(gpu, graph, &frame_buffer, &buffers, size)?;
+        Ok(Renderer { scene, buffers, executor, frame_buffer, size, seed, frame_index: 0, accum_count: 0, last: None })
+    }
+
+    /// Renders one frame at absolute time `time` seconds. With `timed`,
+    /// waits for it and returns per-pass GPU milliseconds (if available).
+    pub fn frame(&mut self, gpu: &Gpu, time: f32, timed: bool) -> Result<Option<Vec<f64>>, UserError> {
+        if self.scene.animate(time) {
+            self.buffers.update(&gpu.queue, self.scene.pack());
+        }
+        let camera = CameraGpu::new(&self.scene.camera, self.size);
+        let epoch = self.buffers.epoch;
+        let prev_camera = match self.last {
+            Some((c, e)) => {
+                if c != camera || e != epoch {
+                    self.accum_count = 0;
+                }
+                c
+            }
+            None => camera,
+        };
+        let data = &self.buffers.data;
+        let frame = FrameGpu {
+            camera,
+            prev_camera,
+            size: [self.size.0, self.size.1],
+            frame_index: self.frame_index,
+            accum_count: self.accum_count,
+            time,
+            seed: self.seed,
+            scene_epoch: epoch,
+            n_spheres: data.spheres.len() as u32,
+            n_meshes: data.meshes.len() as u32,
+            n_triangles: data.triangles.len() as u32,
+            n_lights: data.lights.len() as u32,
+            _pad0: 0,
+            background: data.background,
+            _pad1: 0.0,
+        };
+        gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        let ms = self.executor.run_frame(gpu, timed)?;
+        self.last = Some((camera, epoch));
+        self.frame_index = self.frame_index.wrapping_add(1);
+        self.accum_count = self.accum_count.saturating_add(1);
+        Ok(ms)
+    }
+
+    pub fn read_output(&self, gpu: &Gpu) -> Result<ImageF32, UserError> {
+        self.executor.read_output(gpu)
+    }
+}
+
+impl FrameGpu {
+    fn zeroed_frame() -> FrameGpu {
+        bytemuck::Zeroable::zeroed()
+    }
+}

@@ -1,0 +1,80 @@
+//! Scene features: what a scene contains, used to cull passes (`requires`)
+//! and to specialise shaders.
+
+use serde::{Deserialize, Serialize};
+
+/// A capability a pass can require of the scene (`requires: [...]` in a graph).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum Feature {
+    Meshes,
+    Spheres,
+    PointLights,
+    AreaLights,
+    /// Any light at all (point or area).
+    Lights,
+    Specular,
+    Emissive,
+    Motion,
+}
+
+impl Feature {
+    pub const ALL: [Feature; 8] = [
+        Feature::Meshes,
+        Feature::Spheres,
+        Feature::PointLights,
+        Feature::AreaLights,
+        Feature::Lights,
+        Feature::Specular,
+        Feature::Emissive,
+        Feature::Motion,
+    ];
+}
+
+/// What a loaded scene contains.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SceneFeatures {
+    pub meshes: bool,
+    pub spheres: bool,
+    pub point_lights: bool,
+    pub area_lights: bool,
+    pub specular: bool,
+    pub emissive: bool,
+    pub motion: bool,
+}
+
+impl SceneFeatures {
+    /// Every feature present: used when a graph is checked without a scene.
+    pub fn all() -> Self {
+        SceneFeatures {
+            meshes: true,
+            spheres: true,
+            point_lights: true,
+            area_lights: true,
+            specular: true,
+            emissive: true,
+            motion: true,
+        }
+    }
+
+    pub fn has(&self, f: Feature) -> bool {
+        match f {
+            Feature::Meshes => self.meshes,
+            Feature::Spheres => self.spheres,
+            Feature::PointLights => self.point_lights,
+            Feature::AreaLights => self.area_lights,
+            Feature::Lights => self.point_lights || self.area_lights,
+            Feature::Specular => self.specular,
+            Feature::Emissive => self.emissive,
+            Feature::Motion => self.motion,
+        }
+    }
+
+    /// Names of the features present, for printing.
+    pub fn names(&self) -> Vec<String> {
+        Feature::ALL
+            .iter()
+            .filter(|f| self.has(**f))
+            .map(|f| format!("{f:?}"))
+            .collect()
+    }
+}

@@ -1,0 +1,83 @@
+//! Plain-old-data records uploaded to the GPU. Each mirrors a struct in
+//! `shaders/shared/scene.wgsl` byte for byte (a test checks the layouts
+//! against naga's reflection of that file).
+
+use bytemuck::{Pod, Zeroable};
+
+/// `struct Sphere` (32 bytes). `light` is the index into the light array
+/// for sphere lights, -1 otherwise.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct SphereGpu {
+    pub center: [f32; 3],
+    pub radius: f32,
+    pub material: u32,
+    pub light: i32,
+    pub object: u32,
+    pub _pad: u32,
+}
+
+/// `struct Triangle` (96 bytes): world-space vertices and shading normals.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct TriangleGpu {
+    pub p0: [f32; 3],
+    pub material: u32,
+    pub p1: [f32; 3],
+    pub object: u32,
+    pub p2: [f32; 3],
+    pub _pad0: u32,
+    pub n0: [f32; 3],
+    pub _pad1: f32,
+    pub n1: [f32; 3],
+    pub _pad2: f32,
+    pub n2: [f32; 3],
+    pub _pad3: f32,
+}
+
+/// `struct Mesh` (32 bytes): a world-space bounding box over the triangles
+/// `first .. first + count` of the triangle array.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct MeshGpu {
+    pub bmin: [f32; 3],
+    pub first: u32,
+    pub bmax: [f32; 3],
+    pub count: u32,
+}
+
+/// `struct Material` (32 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct MaterialGpu {
+    pub albedo: [f32; 3],
+    pub specular: f32,
+    pub emission: [f32; 3],
+    pub roughness: f32,
+}
+
+pub const LIGHT_POINT: u32 = 0;
+pub const LIGHT_SPHERE: u32 = 1;
+
+/// `struct Light` (32 bytes). Point light: `color` is intensity I (W/sr),
+/// radius 0. Sphere light: `color` is radiance L, and the light also appears
+/// in the sphere array (with an emissive material) so rays can hit it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct LightGpu {
+    pub position: [f32; 3],
+    pub radius: f32,
+    pub color: [f32; 3],
+    pub kind: u32,
+}
+
+/// Everything the GPU needs of a scene, as flat arrays.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SceneData {
+    pub spheres: Vec<SphereGpu>,
+    pub triangles: Vec<TriangleGpu>,
+    pub meshes: Vec<MeshGpu>,
+    pub materials: Vec<MaterialGpu>,
+    pub lights: Vec<LightGpu>,
+    pub background: [f32; 3],
+}

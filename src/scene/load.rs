@@ -1,0 +1,356 @@
+//! Scene file → `Scene`: parse the RON, check every value, load the OBJ
+//! meshes, and spawn the entities.
+
+use std::path::{Path, PathBuf};
+
+use glam::{EulerRot, Quat, Vec3};
+use hecs::{EntityBuilder, World};
+use ron::extensions::Extensions;
+
+use super::features::SceneFeatures;
+use super::gpu_types::MaterialGpu;
+use super::locate::{Locator, Step};
+use super::obj;
+use super::schema::{LightDesc, ObjectDesc, SceneDesc};
+use super::validate::{self, Ctx};
+use super::world::{
+    BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MeshData, MeshShape,
+    Motion, ObjectId, Scene, SphereShape, Transform,
+};
+use crate::error::{ron_error, UserError};
+
+/// Used by OBJ faces that have neither an MTL material nor a `material:`.
+const DEFAULT_MATERIAL: MaterialGpu = MaterialGpu {
+    albedo: [0.8; 3],
+    specular: 0.0,
+    emission: [0.0; 3],
+    roughness: 1.0,
+};
+
+/// Reads, parses and checks a scene file; OBJ paths are relative to its folder.
+pub fn load(path: &Path) -> Result<Scene, UserError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| UserError::in_file(path, format!("cannot read the scene file: {e}")))?;
+    parse(&text, path)
+}
+
+/// Like `load`, from text; `path` names the file in messages and OBJ paths
+/// are resolved relative to its folder.
+pub fn parse(text: &str, path: &Path) -> Result<Scene, UserError> {
+    // implicit_some: optional fields are written bare (`motion: Orbit(..)`).
+    let desc: SceneDesc = ron::Options::default()
+        .with_default_extension(Extensions::IMPLICIT_SOME)
+        .from_str(text)
+        .map_err(|e| ron_error(path, &e))?;
+    let loc = Locator::new(path, text);
+    let mut scene = Builder::new(&loc).build(&desc)?;
+    // Start at t = 0, so a scene that is never animated still shows movers
+    // where their motion puts them.
+    scene.animate(0.0);
+    Ok(scene)
+}
+
+struct Builder<'a, 'l> {
+    loc: &'a Locator<'l>,
+    names: Vec<&'a str>,
+    materials: Vec<MaterialGpu>,
+    meshes: Vec<MeshData>,
+    /// OBJ meshes already loaded: (resolved path, material override, mesh index).
+    obj_cache: Vec<(PathBuf, Option<u32>, usize)>,
+    default_material: Option<u32>,
+    world: World,
+}
+
+impl<'a, 'l> Builder<'a, 'l> {
+    fn new(loc: &'a Locator<'l>) -> Self {
+        Builder {
+            loc,
+            names: Vec::new(),
+            materials: Vec::new(),
+            meshes: Vec::new(),
+            obj_cache: Vec::new(),
+            default_material: None,
+            world: World::new(),
+        }
+    }
+
+    fn build(mut self, desc: &'a SceneDesc) -> Result<Scene, UserError> {
+        let loc = self.loc;
+        validate::camera(&desc.camera, loc)?;
+        let background = validate::background(desc.background, loc)?;
+        for (i, (name, m)) in desc.materials.0.iter().enumerate() {
+            validate::material(i, name, m, loc)?;
+            if self.names.contains(&name.as_str()) {
+                let at = [Step::Field("materials"), Step::Item(i)];
+                return Err(loc.err(&at, format!("material \"{name}\" is defined twice")));
+            }
+            self.names.push(name);
+            self.materials.push(MaterialGpu {
+                albedo: m.albedo,
+                specular: m.specular,
+                emission: m.emission,
+                roughness: m.roughness,
+            });
+        }
+
+        let mut features = SceneFeatures::default();
+        for (i, o) in desc.objects.iter().enumerate() {
+            let at = vec![Step::Field("objects"), Step::Item(i)];
+            let ctx = Ctx::new(loc, at, format!("objects[{i}] ({})", o.kind()));
+            validate::object(&ctx, o)?;
+            let mut e = EntityBuilder::new();
+            e.add(ObjectId(i as u32));
+            let mut translation = Vec3::ZERO;
+            match o {
+                ObjectDesc::Quad { vertices, material } => {
+                    let material = self.material(&ctx, material)?;
+                    let mesh = self.quad(&ctx, vertices, material)?;
+                    e.add(Transform::IDENTITY).add(MeshShape { mesh });
+                    features.meshes = true;
+                }
+                ObjectDesc::Sphere {
+                    center,
+                    radius,
+                    material,
+                    ..
+                } => {
+                    translation = Vec3::from_array(*center);
+                    let material = self.material(&ctx, material)?;
+                    e.add(Transform::from_translation(translation))
+                        .add(SphereShape { radius: *radius })
+                        .add(MaterialId(material));
+                    features.spheres = true;
+                }
+                ObjectDesc::Mesh {
+                    path,
+                    translate,
+                    scale,
+                    rotate_deg,
+                    material,
+                    ..
+                } => {
+                    let material = match material {
+                        Some(name) => Some(self.material(&ctx, name)?),
+                        None => None,
+                    };
+                    let mesh = self.obj_mesh(&ctx, path, material)?;
+                    translation = Vec3::from_array(*translate);
+                    let [x, y, z] = rotate_deg.map(f32::to_radians);
+                    let rotation = Quat::from_euler(EulerRot::XYZ, x, y, z);
+                    e.add(Transform {
+                        translation,
+                        rotation,
+                        scale: *scale,
+                    })
+                    .add(MeshShape { mesh });
+                    features.meshes = true;
+                }
+            }
+            if let Some(m) = o.motion() {
+                e.add(validate::motion(&ctx, m)?)
+                    .add(BasePosition(translation));
+                features.motion = true;
+            }
+            self.world.spawn(e.build());
+        }
+
+        for (j, l) in desc.lights.iter().enumerate() {
+            let at = vec![Step::Field("lights"), Step::Item(j)];
+            let ctx = Ctx::new(loc, at, format!("lights[{j}] ({})", l.kind()));
+            validate::light(&ctx, l)?;
+            let mut e = EntityBuilder::new();
+            e.add(ObjectId((desc.objects.len() + j) as u32))
+                .add(LightIndex(j as u32));
+            let translation = match *l {
+                LightDesc::SphereLight {
+                    center,
+                    radius,
+                    radiance,
+                    ..
+                } => {
+                    // Rays can hit a sphere light: it gets an emissive,
+                    // non-reflecting material of its own.
+                    let material = self.push_material(MaterialGpu {
+                        albedo: [0.0; 3],
+                        specular: 0.0,
+                        emission: radiance,
+                        roughness: 1.0,
+                    });
+                    let radiance = Vec3::from_array(radiance);
+                    e.add(Light::Sphere { radius, radiance })
+                        .add(MaterialId(material));
+                    features.area_lights = true;
+                    Vec3::from_array(center)
+                }
+                LightDesc::PointLight {
+                    position,
+                    intensity,
+                    ..
+                } => {
+                    e.add(Light::Point {
+                        intensity: Vec3::from_array(intensity),
+                    });
+                    features.point_lights = true;
+                    Vec3::from_array(position)
+                }
+            };
+            e.add(Transform::from_translation(translation));
+            if let Some(m) = l.motion() {
+                let motion: Motion = validate::motion(&ctx, m)?;
+                e.add(motion).add(BasePosition(translation));
+                features.motion = true;
+            }
+            self.world.spawn(e.build());
+        }
+
+        let (specular, emissive) = self.used_material_features();
+        features.specular = specular;
+        features.emissive = emissive;
+        let c = &desc.camera;
+        Ok(Scene {
+            world: self.world,
+            camera: Camera {
+                position: Vec3::from_array(c.position),
+                target: Vec3::from_array(c.target),
+                up: Vec3::from_array(c.up),
+                vfov_deg: c.vfov_deg,
+            },
+            background,
+            features,
+            path: loc.path.to_path_buf(),
+            meshes: self.meshes,
+            materials: self.materials,
+        })
+    }
+
+    fn push_material(&mut self, m: MaterialGpu) -> u32 {
+        self.materials.push(m);
+        (self.materials.len() - 1) as u32
+    }
+
+    /// The id of a named material, or an error listing the names defined.
+    fn material(&self, ctx: &Ctx, name: &str) -> Result<u32, UserError> {
+        if let Some(i) = self.names.iter().position(|n| *n == name) {
+            return Ok(i as u32);
+        }
+        let defined = if self.names.is_empty() {
+            "the scene defines no materials".to_string()
+        } else {
+            format!("the scene defines: {}", self.names.join(", "))
+        };
+        Err(ctx.err(
+            "material",
+            format_args!("unknown material \"{name}\"; {defined}"),
+        ))
+    }
+
+    /// Two triangles (v0 v1 v2) and (v0 v2 v3) with the quad's flat normal.
+    fn quad(
+        &mut self,
+        ctx: &Ctx,
+        vertices: &[[f32; 3]],
+        material: u32,
+    ) -> Result<usize, UserError> {
+        let v: Vec<Vec3> = vertices.iter().map(|&p| Vec3::from_array(p)).collect();
+        let n = validate::quad_normal(&v)
+            .ok_or_else(|| ctx.err("vertices", "the quad is degenerate (zero area)"))?;
+        let tri = |a: usize, b: usize, c: usize| LocalTriangle {
+            p: [v[a], v[b], v[c]],
+            n: [n; 3],
+            material,
+        };
+        self.meshes.push(MeshData {
+            triangles: vec![tri(0, 1, 2), tri(0, 2, 3)],
+        });
+        Ok(self.meshes.len() - 1)
+    }
+
+    /// Loads (once per file and material override) the OBJ at `rel`, relative
+    /// to the scene file's folder.
+    fn obj_mesh(
+        &mut self,
+        ctx: &Ctx,
+        rel: &str,
+        material: Option<u32>,
+    ) -> Result<usize, UserError> {
+        let dir = self.loc.path.parent().unwrap_or(Path::new(""));
+        let resolved = dir.join(rel);
+        let cached = self
+            .obj_cache
+            .iter()
+            .find(|(p, m, _)| *p == resolved && *m == material);
+        if let Some(&(_, _, mesh)) = cached {
+            return Ok(mesh);
+        }
+        if !resolved.is_file() {
+            return Err(ctx.err(
+                "path",
+                format_args!(
+                    "mesh file \"{rel}\" not found (looked for {})",
+                    resolved.display()
+                ),
+            ));
+        }
+        let file = obj::read(&resolved).map_err(|e| ctx.err("path", e))?;
+        // An override replaces the MTL materials, which are then not added.
+        let base = self.materials.len() as u32;
+        if material.is_none() {
+            self.materials.extend_from_slice(&file.materials);
+        }
+        let mut triangles = Vec::with_capacity(file.triangles.len());
+        for t in &file.triangles {
+            let id = match (material, t.material) {
+                (Some(m), _) => m,
+                (None, Some(m)) => base + m as u32,
+                (None, None) => self.default_material(),
+            };
+            triangles.push(LocalTriangle {
+                p: t.p,
+                n: t.n,
+                material: id,
+            });
+        }
+        self.meshes.push(MeshData { triangles });
+        let mesh = self.meshes.len() - 1;
+        self.obj_cache.push((resolved, material, mesh));
+        Ok(mesh)
+    }
+
+    fn default_material(&mut self) -> u32 {
+        match self.default_material {
+            Some(id) => id,
+            None => {
+                let id = self.push_material(DEFAULT_MATERIAL);
+                self.default_material = Some(id);
+                id
+            }
+        }
+    }
+
+    /// (specular, emissive) over the materials that objects use; sphere
+    /// lights' own materials do not count.
+    fn used_material_features(&mut self) -> (bool, bool) {
+        let mut used = vec![false; self.materials.len()];
+        let spheres = self
+            .world
+            .query_mut::<(&MaterialId, &SphereShape)>()
+            .into_iter()
+            .map(|(m, _)| m.0);
+        let triangles = self
+            .meshes
+            .iter()
+            .flat_map(|m| &m.triangles)
+            .map(|t| t.material);
+        for id in spheres.chain(triangles) {
+            if let Some(u) = used.get_mut(id as usize) {
+                *u = true;
+            }
+        }
+        let mut flags = (false, false);
+        for (m, _) in self.materials.iter().zip(&used).filter(|(_, u)| **u) {
+            flags.0 |= m.specular > 0.0;
+            flags.1 |= m.emission.iter().any(|&e| e > 0.0);
+        }
+        flags
+    }
+}

@@ -1,0 +1,33 @@
+//! The scene: RON schema, hecs world and components, OBJ loading, scene
+//! features, and packing into GPU arrays (DESIGN.md section 5).
+//!
+//! `load`/`parse` turn a scene file into a [`Scene`]: an hecs world with one
+//! entity per object and light, a local-space mesh store and the material
+//! table. [`Scene::animate`] moves the `Motion` entities to a time, and
+//! [`Scene::pack`] flattens everything into [`SceneData`] for upload.
+//!
+//! Material ids: the scene's named materials in file order, then the MTL
+//! materials of each OBJ (in the order meshes are first met; none for a mesh
+//! with a `material:` override), a default white (0.8) the first time a face
+//! has no material, then one emissive material per sphere light.
+
+pub mod features;
+pub mod gpu_types;
+mod load;
+mod locate;
+mod obj;
+mod pack;
+mod schema;
+mod validate;
+mod world;
+
+#[cfg(test)]
+mod tests;
+
+pub use features::{Feature, SceneFeatures};
+pub use gpu_types::*;
+pub use load::{load, parse};
+pub use world::{
+    animate, BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MeshData, MeshShape, Motion,
+    ObjectId, Scene, SphereShape, Transform,
+};

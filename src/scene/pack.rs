@@ -1,0 +1,146 @@
+//! World → flat GPU arrays (world space), in a deterministic order: entities
+//! sorted by `ObjectId` (objects in file order, then lights).
+
+use glam::Vec3;
+
+use super::gpu_types::{
+    LightGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, LIGHT_POINT, LIGHT_SPHERE,
+};
+use super::world::{
+    Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, Transform,
+};
+
+impl Scene {
+    /// Flatten the world into GPU arrays (world space). Deterministic order.
+    ///
+    /// Spheres: sphere objects, then one per sphere light (`light` = its
+    /// index in `lights`). Meshes: one per quad or mesh object, each with a
+    /// world-space box over its slice of `triangles`.
+    pub fn pack(&self) -> SceneData {
+        let mut spheres: Vec<(ObjectId, SphereGpu)> = Vec::new();
+        for (id, t, s, m) in self
+            .world
+            .query::<(&ObjectId, &Transform, &SphereShape, &MaterialId)>()
+            .iter()
+        {
+            spheres.push((*id, sphere(*id, t.translation, s.radius, m.0, -1)));
+        }
+
+        let mut lights: Vec<(LightIndex, ObjectId, LightGpu, Option<SphereGpu>)> = Vec::new();
+        let mut query = self.world.query::<(
+            &ObjectId,
+            &LightIndex,
+            &Transform,
+            &Light,
+            Option<&MaterialId>,
+        )>();
+        for (id, index, t, light, material) in query.iter() {
+            let p = t.translation;
+            let (gpu, ball) = match (*light, material) {
+                (Light::Sphere { radius, radiance }, Some(m)) => (
+                    light_gpu(p, radius, radiance, LIGHT_SPHERE),
+                    Some(sphere(*id, p, radius, m.0, index.0 as i32)),
+                ),
+                // A sphere light always has its material; without one it
+                // is still a light, just not visible to rays.
+                (Light::Sphere { radius, radiance }, None) => {
+                    (light_gpu(p, radius, radiance, LIGHT_SPHERE), None)
+                }
+                (Light::Point { intensity }, _) => {
+                    (light_gpu(p, 0.0, intensity, LIGHT_POINT), None)
+                }
+            };
+            lights.push((*index, *id, gpu, ball));
+        }
+        lights.sort_by_key(|l| l.0);
+        spheres.sort_by_key(|s| s.0);
+        spheres.extend(lights.iter().filter_map(|l| l.3.map(|s| (l.1, s))));
+
+        let mut instances: Vec<(ObjectId, Transform, usize)> = self
+            .world
+            .query::<(&ObjectId, &Transform, &MeshShape)>()
+            .iter()
+            .map(|(id, t, m)| (*id, *t, m.mesh))
+            .collect();
+        instances.sort_by_key(|i| i.0);
+        let mut triangles = Vec::with_capacity(self.triangle_count());
+        let mut meshes = Vec::with_capacity(instances.len());
+        for (id, t, mesh) in instances {
+            let Some(data) = self.meshes.get(mesh) else {
+                continue;
+            };
+            let first = triangles.len() as u32;
+            let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+            for tri in &data.triangles {
+                let p = tri.p.map(|p| t.point(p));
+                let n = tri.n.map(|n| t.normal(n));
+                for q in p {
+                    lo = lo.min(q);
+                    hi = hi.max(q);
+                }
+                triangles.push(TriangleGpu {
+                    p0: p[0].into(),
+                    material: tri.material,
+                    p1: p[1].into(),
+                    object: id.0,
+                    p2: p[2].into(),
+                    _pad0: 0,
+                    n0: n[0].into(),
+                    _pad1: 0.0,
+                    n1: n[1].into(),
+                    _pad2: 0.0,
+                    n2: n[2].into(),
+                    _pad3: 0.0,
+                });
+            }
+            let count = triangles.len() as u32 - first;
+            if count > 0 {
+                meshes.push(MeshGpu {
+                    bmin: lo.into(),
+                    first,
+                    bmax: hi.into(),
+                    count,
+                });
+            }
+        }
+
+        SceneData {
+            spheres: spheres.into_iter().map(|s| s.1).collect(),
+            triangles,
+            meshes,
+            materials: self.materials.clone(),
+            lights: lights.into_iter().map(|l| l.2).collect(),
+            background: self.background.into(),
+        }
+    }
+
+    /// Triangles over all mesh instances (quads count two).
+    pub fn triangle_count(&self) -> usize {
+        self.world
+            .query::<&MeshShape>()
+            .iter()
+            .filter_map(|m| self.meshes.get(m.mesh))
+            .map(|d| d.triangles.len())
+            .sum()
+    }
+}
+
+fn sphere(id: ObjectId, center: Vec3, radius: f32, material: u32, light: i32) -> SphereGpu {
+    SphereGpu {
+        center: center.into(),
+        radius,
+        material,
+        light,
+        object: id.0,
+        _pad: 0,
+    }
+}
+
+fn light_gpu(position: Vec3, radius: f32, color: Vec3, kind: u32) -> LightGpu {
+    LightGpu {
+        position: position.into(),
+        radius,
+        color: color.into(),
+        kind,
+    }
+}

@@ -1,0 +1,253 @@
+//! Checks on the values RON accepted (it takes `NaN`, `inf`, negative radii,
+//! ...). Each check names the offending item and finds its line in the file.
+
+use glam::Vec3;
+
+use super::locate::{Locator, Step};
+use super::schema::{CameraDesc, LightDesc, MaterialDesc, MotionDesc, ObjectDesc, V3};
+use super::world::Motion;
+use crate::error::UserError;
+
+type Res<T> = Result<T, UserError>;
+
+/// A vector as written in RON: `(x, y, z)`.
+fn show(v: Vec3) -> String {
+    format!("({}, {}, {})", v.x, v.y, v.z)
+}
+
+/// A path into the file plus the name used in messages, e.g. `objects[2] (Sphere)`.
+pub(crate) struct Ctx<'a, 'l> {
+    loc: &'a Locator<'l>,
+    at: Vec<Step<'a>>,
+    name: String,
+}
+
+impl<'a, 'l> Ctx<'a, 'l> {
+    pub(crate) fn new(loc: &'a Locator<'l>, at: Vec<Step<'a>>, name: String) -> Self {
+        Ctx { loc, at, name }
+    }
+
+    /// An error at `field` of this item (or at the item if the field is not written).
+    pub(crate) fn err(&self, field: &'a str, message: impl std::fmt::Display) -> UserError {
+        let mut at = self.at.clone();
+        at.push(Step::Field(field));
+        self.loc.err(&at, format!("{}: {message}", self.name))
+    }
+
+    fn child(&self, field: &'a str, name: &str) -> Ctx<'a, 'l> {
+        let mut at = self.at.clone();
+        at.push(Step::Field(field));
+        Ctx {
+            loc: self.loc,
+            at,
+            name: format!("{} {name}", self.name),
+        }
+    }
+
+    fn finite(&self, field: &'a str, v: V3) -> Res<Vec3> {
+        let v = Vec3::from_array(v);
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(
+                field,
+                format_args!("`{field}` has a NaN or infinite component: {}", show(v)),
+            ))
+        }
+    }
+
+    /// Finite and every component >= 0 (colours, radiance, intensity).
+    fn color(&self, field: &'a str, v: V3) -> Res<Vec3> {
+        let v = self.finite(field, v)?;
+        if v.min_element() < 0.0 {
+            return Err(self.err(
+                field,
+                format_args!("`{field}` must not be negative, got {}", show(v)),
+            ));
+        }
+        Ok(v)
+    }
+
+    fn positive(&self, field: &'a str, x: f32) -> Res<f32> {
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(
+                field,
+                format_args!("`{field}` must be a positive finite number, got {x}"),
+            ))
+        }
+    }
+
+    fn unit(&self, field: &'a str, x: f32) -> Res<f32> {
+        if (0.0..=1.0).contains(&x) {
+            Ok(x)
+        } else {
+            Err(self.err(field, format_args!("`{field}` must be in 0..1, got {x}")))
+        }
+    }
+}
+
+pub(crate) fn camera(c: &CameraDesc, loc: &Locator) -> Res<()> {
+    let ctx = Ctx::new(loc, vec![Step::Field("camera")], "camera".into());
+    let position = ctx.finite("position", c.position)?;
+    let target = ctx.finite("target", c.target)?;
+    let up = ctx.finite("up", c.up)?;
+    if !(c.vfov_deg > 0.0 && c.vfov_deg < 180.0) {
+        return Err(ctx.err(
+            "vfov_deg",
+            format_args!("`vfov_deg` must be in (0, 180) degrees, got {}", c.vfov_deg),
+        ));
+    }
+    let Some(dir) = (target - position).try_normalize() else {
+        return Err(ctx.err("target", "`target` must differ from `position`"));
+    };
+    if dir.cross(up).length_squared() < 1e-12 {
+        return Err(ctx.err(
+            "up",
+            format_args!(
+                "`up` {} must not be zero or parallel to the view direction",
+                show(up)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+pub(crate) fn background(v: V3, loc: &Locator) -> Res<Vec3> {
+    Ctx::new(loc, vec![], "scene".into()).color("background", v)
+}
+
+pub(crate) fn material(i: usize, name: &str, m: &MaterialDesc, loc: &Locator) -> Res<()> {
+    let ctx = Ctx::new(
+        loc,
+        vec![Step::Field("materials"), Step::Item(i)],
+        format!("material \"{name}\""),
+    );
+    let albedo = ctx.color("albedo", m.albedo)?;
+    if albedo.max_element() > 1.0 {
+        return Err(ctx.err(
+            "albedo",
+            format_args!("`albedo` components must be in 0..1, got {}", show(albedo)),
+        ));
+    }
+    ctx.unit("specular", m.specular)?;
+    ctx.unit("roughness", m.roughness)?;
+    ctx.color("emission", m.emission)?;
+    Ok(())
+}
+
+/// Checks an object's numbers (material names are resolved by the loader).
+pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
+    match o {
+        ObjectDesc::Quad { vertices, .. } => {
+            let v: Vec<Vec3> = vertices
+                .iter()
+                .map(|&v| ctx.finite("vertices", v))
+                .collect::<Res<_>>()?;
+            if v.len() != 4 {
+                return Err(ctx.err(
+                    "vertices",
+                    format_args!("a quad needs exactly 4 vertices, got {}", v.len()),
+                ));
+            }
+            if quad_normal(&v).is_none() {
+                return Err(ctx.err("vertices", "the quad is degenerate (zero area)"));
+            }
+        }
+        ObjectDesc::Sphere { center, radius, .. } => {
+            ctx.finite("center", *center)?;
+            ctx.positive("radius", *radius)?;
+        }
+        ObjectDesc::Mesh {
+            path,
+            translate,
+            scale,
+            rotate_deg,
+            ..
+        } => {
+            if path.trim().is_empty() {
+                return Err(ctx.err("path", "`path` is empty"));
+            }
+            ctx.finite("translate", *translate)?;
+            ctx.positive("scale", *scale)?;
+            ctx.finite("rotate_deg", *rotate_deg)?;
+        }
+    }
+    Ok(())
+}
+
+/// The unit normal of a quad `v0 v1 v2 v3` (counter-clockwise = front):
+/// the cross product of the diagonals, which is twice the (vector) area even
+/// for a slightly non-planar quad. `None` when the area is zero.
+pub(crate) fn quad_normal(v: &[Vec3]) -> Option<Vec3> {
+    let [v0, v1, v2, v3] = v else { return None };
+    let n = (*v2 - *v0).cross(*v3 - *v1);
+    let scale = (*v2 - *v0)
+        .length_squared()
+        .max((*v3 - *v1).length_squared());
+    // Relative test: a sliver far thinner than its size is degenerate too.
+    (n.length_squared() > 1e-12 * scale * scale).then(|| n.normalize())
+}
+
+pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
+    match l {
+        LightDesc::SphereLight {
+            center,
+            radius,
+            radiance,
+            ..
+        } => {
+            ctx.finite("center", *center)?;
+            ctx.positive("radius", *radius)?;
+            ctx.color("radiance", *radiance)?;
+        }
+        LightDesc::PointLight {
+            position,
+            intensity,
+            ..
+        } => {
+            ctx.finite("position", *position)?;
+            ctx.color("intensity", *intensity)?;
+        }
+    }
+    Ok(())
+}
+
+/// Checks a `motion:` and converts it.
+pub(crate) fn motion(parent: &Ctx, m: &MotionDesc) -> Res<Motion> {
+    match *m {
+        MotionDesc::Orbit {
+            center,
+            axis,
+            radius,
+            period_s,
+            phase_deg,
+        } => {
+            let ctx = parent.child("motion", "Orbit");
+            let center = ctx.finite("center", center)?;
+            let axis_v = ctx.finite("axis", axis)?;
+            if !(radius.is_finite() && radius >= 0.0) {
+                return Err(ctx.err(
+                    "radius",
+                    format_args!("`radius` must be a finite number >= 0, got {radius}"),
+                ));
+            }
+            ctx.positive("period_s", period_s)?;
+            if !phase_deg.is_finite() {
+                return Err(ctx.err(
+                    "phase_deg",
+                    format_args!("`phase_deg` must be finite, got {phase_deg}"),
+                ));
+            }
+            Motion::orbit(center, axis_v, radius, period_s, phase_deg)
+                .ok_or_else(|| ctx.err("axis", "`axis` must not be zero"))
+        }
+        MotionDesc::Linear { velocity } => {
+            let ctx = parent.child("motion", "Linear");
+            Ok(Motion::Linear {
+                velocity: ctx.finite("velocity", velocity)?,
+            })
+        }
+    }
+}

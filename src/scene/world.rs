@@ -1,0 +1,255 @@
+//! The loaded scene: an hecs world of entities, its components, the local
+//! mesh store, and the `animate` system.
+
+use std::path::PathBuf;
+
+use glam::{Quat, Vec3};
+
+use super::features::SceneFeatures;
+use super::gpu_types::MaterialGpu;
+
+/// The viewpoint. `vfov_deg` is the full vertical angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub vfov_deg: f32,
+}
+
+/// A loaded scene. Entities carry `ObjectId` (objects first, in file order,
+/// then lights), `Transform`, and one of `SphereShape`, `MeshShape` or
+/// `Light`; movers also carry `Motion` and `BasePosition`.
+pub struct Scene {
+    pub world: hecs::World,
+    pub camera: Camera,
+    pub background: Vec3,
+    pub features: SceneFeatures,
+    /// The scene file (used in messages and to resolve mesh paths).
+    pub path: PathBuf,
+    /// Local-space triangles, indexed by `MeshShape::mesh`.
+    pub(super) meshes: Vec<MeshData>,
+    /// Every material, indexed by `MaterialId` and the triangles' `material`.
+    pub(super) materials: Vec<MaterialGpu>,
+}
+
+impl Scene {
+    /// Advance `Motion` components to absolute time `t` seconds (not a
+    /// delta). Returns true if anything moved.
+    pub fn animate(&mut self, t: f32) -> bool {
+        animate(&mut self.world, t)
+    }
+
+    /// The local-space mesh store (for building one BLAS per mesh).
+    pub fn meshes(&self) -> &[MeshData] {
+        &self.meshes
+    }
+
+    /// Every material of the scene, indexed by material id.
+    pub fn materials(&self) -> &[MaterialGpu] {
+        &self.materials
+    }
+}
+
+/// Local-space triangles of one mesh: an OBJ file or a quad.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MeshData {
+    pub triangles: Vec<LocalTriangle>,
+}
+
+/// Positions, unit shading normals and material id of one triangle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalTriangle {
+    pub p: [Vec3; 3],
+    pub n: [Vec3; 3],
+    pub material: u32,
+}
+
+/// Placement of an entity: world = translation + rotation * (scale * local).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transform {
+    pub translation: Vec3,
+    pub rotation: Quat,
+    /// Uniform, so normals only need the rotation.
+    pub scale: f32,
+}
+
+impl Transform {
+    pub const IDENTITY: Transform = Transform {
+        translation: Vec3::ZERO,
+        rotation: Quat::IDENTITY,
+        scale: 1.0,
+    };
+
+    pub fn from_translation(translation: Vec3) -> Self {
+        Transform {
+            translation,
+            ..Transform::IDENTITY
+        }
+    }
+
+    pub fn point(&self, p: Vec3) -> Vec3 {
+        self.translation + self.rotation * (self.scale * p)
+    }
+
+    pub fn normal(&self, n: Vec3) -> Vec3 {
+        (self.rotation * n).normalize_or(n)
+    }
+}
+
+/// Position in the `objects` list, then lights continue the numbering.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct ObjectId(pub u32);
+
+/// Position in the `lights` list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct LightIndex(pub u32);
+
+/// A sphere object centred on its `Transform::translation`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereShape {
+    pub radius: f32,
+}
+
+/// A mesh instance: an index into `Scene::meshes()`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MeshShape {
+    pub mesh: usize,
+}
+
+/// Material of a sphere (or of a sphere light: its emissive material).
+/// Mesh triangles carry their own material ids.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MaterialId(pub u32);
+
+/// A light at its `Transform::translation`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// Radiance L, uniform over the sphere.
+    Sphere { radius: f32, radiance: Vec3 },
+    /// Intensity I (W/sr).
+    Point { intensity: Vec3 },
+}
+
+/// Where `Linear` motion starts (the position written in the file).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BasePosition(pub Vec3);
+
+/// How an entity's translation depends on time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion {
+    /// `center + radius * (cos φ u + sin φ v)`, φ = 2π t / period + phase;
+    /// `u`, `v` are orthonormal and `u × v` is the axis (counter-clockwise
+    /// seen from the axis tip). The position written in the file is not used.
+    Orbit {
+        center: Vec3,
+        u: Vec3,
+        v: Vec3,
+        radius: f32,
+        period_s: f32,
+        phase_rad: f32,
+    },
+    /// `base + velocity * t`.
+    Linear { velocity: Vec3 },
+}
+
+impl Motion {
+    /// An orbit around `axis` (any length but zero; `None` when zero or not finite).
+    pub fn orbit(
+        center: Vec3,
+        axis: Vec3,
+        radius: f32,
+        period_s: f32,
+        phase_deg: f32,
+    ) -> Option<Motion> {
+        let n = axis.try_normalize()?;
+        let (u, _) = n.any_orthonormal_pair();
+        let v = n.cross(u);
+        Some(Motion::Orbit {
+            center,
+            u,
+            v,
+            radius,
+            period_s,
+            phase_rad: phase_deg.to_radians(),
+        })
+    }
+
+    /// Position at absolute time `t`.
+    pub fn position(&self, base: Vec3, t: f32) -> Vec3 {
+        match *self {
+            Motion::Orbit {
+                center,
+                u,
+                v,
+                radius,
+                period_s,
+                phase_rad,
+            } => {
+                // Wrap the time first so that large t keeps its precision.
+                let turns = (t / period_s).rem_euclid(1.0);
+                let phi = std::f32::consts::TAU * turns + phase_rad;
+                center + radius * (phi.cos() * u + phi.sin() * v)
+            }
+            Motion::Linear { velocity } => base + velocity * t,
+        }
+    }
+}
+
+/// The animate system: moves every `Motion` entity to time `t`. Returns true
+/// if any translation changed. A non-finite `t` moves nothing.
+pub fn animate(world: &mut hecs::World, t: f32) -> bool {
+    if !t.is_finite() {
+        return false;
+    }
+    let mut moved = false;
+    for (transform, motion, base) in world.query_mut::<(&mut Transform, &Motion, &BasePosition)>() {
+        let p = motion.position(base.0, t);
+        if p.is_finite() && p != transform.translation {
+            transform.translation = p;
+            moved = true;
+        }
+    }
+    moved
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orbit_basis_is_right_handed() {
+        for axis in [Vec3::Y, Vec3::X, -Vec3::Z, Vec3::new(1.0, 2.0, -3.0)] {
+            let Some(Motion::Orbit { u, v, .. }) = Motion::orbit(Vec3::ZERO, axis, 1.0, 1.0, 0.0)
+            else {
+                panic!("orbit")
+            };
+            assert!(u.dot(axis).abs() < 1e-6 && v.dot(axis).abs() < 1e-6);
+            assert!((u.cross(v) - axis.normalize()).length() < 1e-5);
+        }
+        assert!(Motion::orbit(Vec3::ZERO, Vec3::ZERO, 1.0, 1.0, 0.0).is_none());
+        assert!(Motion::orbit(Vec3::ZERO, Vec3::NAN, 1.0, 1.0, 0.0).is_none());
+    }
+
+    #[test]
+    fn orbit_position_is_periodic() {
+        let m = Motion::orbit(Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 0.5, 4.0, 90.0).unwrap();
+        let a = m.position(Vec3::ZERO, 1.0);
+        let b = m.position(Vec3::ZERO, 5.0);
+        let c = m.position(Vec3::ZERO, 4001.0);
+        assert!((a - b).length() < 1e-5 && (a - c).length() < 1e-4);
+        assert!(((a - Vec3::Y).length() - 0.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn transform_applies_scale_rotation_translation() {
+        let t = Transform {
+            translation: Vec3::new(1.0, 0.0, 0.0),
+            rotation: Quat::from_rotation_y(std::f32::consts::FRAC_PI_2),
+            scale: 2.0,
+        };
+        // Rotating +x by 90° about +y gives -z.
+        assert!((t.point(Vec3::X) - Vec3::new(1.0, 0.0, -2.0)).length() < 1e-6);
+        assert!((t.normal(Vec3::X) - Vec3::NEG_Z).length() < 1e-6);
+    }
+}

@@ -1,0 +1,133 @@
+//! WGSL loading with `#import` and a line map back to the original files.
+//!
+//! `#import name` on a line of its own pulls in `shaders/shared/name.wgsl`
+//! (once per shader, however often it is imported, so shared files may
+//! import each other). The expanded text keeps, for each of its lines, the
+//! file and line it came from, so naga's errors point at what the user edits.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{Location, UserError};
+
+/// A shader after `#import` expansion.
+#[derive(Debug, Clone)]
+pub struct ShaderSource {
+    /// The pass shader's file name, relative to the shader directory.
+    pub name: String,
+    pub text: String,
+    /// For each line of `text` (0-based): (index into `files`, 1-based line).
+    line_map: Vec<(usize, usize)>,
+    /// Every file the text came from: the shader first, then its imports.
+    pub files: Vec<PathBuf>,
+}
+
+impl ShaderSource {
+    /// The original file and line of a 1-based line of the expanded text.
+    pub fn original(&self, expanded_line: usize, col: usize) -> Location {
+        match self.line_map.get(expanded_line.saturating_sub(1)) {
+            Some(&(file, line)) => Location::at(&self.files[file], line, col),
+            None => Location::file(&self.files[0]),
+        }
+    }
+
+    /// The original location of a byte span of the expanded text.
+    pub fn span_location(&self, span: naga::Span) -> Location {
+        if !span.is_defined() {
+            return Location::file(&self.files[0]);
+        }
+        let loc = span.location(&self.text);
+        self.original(loc.line_number as usize, loc.line_position as usize)
+    }
+}
+
+const IMPORT: &str = "#import";
+
+/// Loads `dir/name` and expands its imports from `dir/shared/`.
+pub fn load(dir: &Path, name: &str) -> Result<ShaderSource, UserError> {
+    let mut src = ShaderSource {
+        name: name.to_string(),
+        text: String::new(),
+        line_map: Vec::new(),
+        files: Vec::new(),
+    };
+    expand(&dir.join(name), dir, None, &mut src)?;
+    Ok(src)
+}
+
+/// Expands from in-memory text (tests, hot reload of an unsaved buffer).
+pub fn expand_text(text: &str, file: &Path, dir: &Path) -> Result<ShaderSource, UserError> {
+    let mut src = ShaderSource {
+        name: file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
+        text: String::new(),
+        line_map: Vec::new(),
+        files: vec![file.to_path_buf()],
+    };
+    expand_lines(text, 0, dir, &mut src)?;
+    Ok(src)
+}
+
+fn expand(path: &Path, dir: &Path, from: Option<Location>, src: &mut ShaderSource) -> Result<(), UserError> {
+    if src.files.iter().any(|f| f == path) {
+        return Ok(());
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| match &from {
+        Some(loc) => UserError::at(loc.clone(), format!("cannot import {}: {e}", path.display())),
+        None => UserError::in_file(path, format!("cannot read the shader: {e}")),
+    })?;
+    src.files.push(path.to_path_buf());
+    let index = src.files.len() - 1;
+    expand_lines(&text, index, dir, src)
+}
+
+fn expand_lines(text: &str, file: usize, dir: &Path, src: &mut ShaderSource) -> Result<(), UserError> {
+    for (i, line) in text.lines().enumerate() {
+        let trimmed = line.trim();
+        if let Some(rest) = trimmed.strip_prefix(IMPORT) {
+            let here = Location::at(&src.files[file], i + 1, 1);
+            let name = rest.trim().trim_matches('"');
+            let valid = !name.is_empty()
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+            if !valid {
+                return Err(UserError::at(
+                    here,
+                    format!("bad import `{trimmed}`: write `#import name` to include shaders/shared/name.wgsl"),
+                ));
+            }
+            let path = dir.join("shared").join(format!("{name}.wgsl"));
+            expand(&path, dir, Some(here), src)?;
+            // Keep the import line itself (commented) so line counts stay simple.
+            src.text.push_str("// ");
+        }
+        src.text.push_str(line);
+        src.text.push('\n');
+        src.line_map.push((file, i + 1));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn imports_map_lines_back() {
+        let dir = std::env::temp_dir().join(format!("glint-src-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("shared")).unwrap();
+        std::fs::write(dir.join("shared/a.wgsl"), "// a1\n#import b\nconst A = 1;\n").unwrap();
+        std::fs::write(dir.join("shared/b.wgsl"), "const B = 2;\n").unwrap();
+        std::fs::write(dir.join("p.wgsl"), "#import a\n#import b\nconst P = 3;\n").unwrap();
+        let s = load(&dir, "p.wgsl").unwrap();
+        assert_eq!(s.files.len(), 3);
+        // b is included once, inside a.
+        assert_eq!(s.text.matches("const B").count(), 1);
+        let line = s.text.lines().position(|l| l.starts_with("const P")).unwrap() + 1;
+        let loc = s.original(line, 1);
+        assert!(loc.file.ends_with("p.wgsl"));
+        assert_eq!(loc.line, 3);
+        let line = s.text.lines().position(|l| l.starts_with("const B")).unwrap() + 1;
+        assert!(s.original(line, 1).file.ends_with("b.wgsl"));
+        let err = expand_text("#import nothere\n", &dir.join("q.wgsl"), &dir).unwrap_err();
+        assert!(err.to_string().contains("q.wgsl:1"), "{err}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
