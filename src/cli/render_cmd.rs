@@ -33,9 +33,9 @@ pub struct RenderArgs {
     pub dt: f32,
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
-    /// Output file: .png (sRGB) or .exr (linear).
-    #[arg(long)]
-    pub out: PathBuf,
+    /// Output file: .png (sRGB) or .exr (linear); repeat for several.
+    #[arg(long, required = true)]
+    pub out: Vec<PathBuf>,
     /// Write this graph resource instead of the graph's output (debugging).
     #[arg(long)]
     pub output: Option<String>,
@@ -61,9 +61,11 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     if args.frames == 0 {
         return Err(UserError::new("--frames 0 renders nothing; give at least 1"));
     }
-    let ext = args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
-        return Err(UserError::in_file(&args.out, "the output must end in .png or .exr"));
+    for out in &args.out {
+        let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
+            return Err(UserError::in_file(out, "the output must end in .png or .exr"));
+        }
     }
     let scene = scene::load(&args.scene)?;
     let gpu = Gpu::new()?;
@@ -106,11 +108,14 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     }
     bar.finish_and_clear();
     let image = renderer.read_output(&gpu)?;
-    image_io::save(&image, &args.out)?;
+    for out in &args.out {
+        image_io::save(&image, out)?;
+    }
     let gpu_total: f64 = pass_ms.iter().map(|v| median(v)).sum();
+    let outs: Vec<String> = args.out.iter().map(|p| p.display().to_string()).collect();
     println!(
         "wrote {} ({}x{}); {} frames in {:.2} s; median {:.2} ms/frame wall, {:.2} ms/frame GPU",
-        args.out.display(),
+        outs.join(", "),
         args.size.0,
         args.size.1,
         args.frames,

@@ -1,0 +1,107 @@
+//! Bad input through the `glint` binary: a one-paragraph error naming the
+//! file and line, exit code 2, never a panic.
+
+mod common;
+
+use std::process::Command;
+
+use common::{repo, scratch};
+
+fn glint(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .current_dir(repo())
+        .env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()))
+        .output()
+        .expect("run glint");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
+}
+
+fn write(dir: &std::path::Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+#[test]
+fn graph_check_shows_the_schedule_with_area_light_work_culled() {
+    let (code, out, err) = glint(&["graph", "check", "passes/direct.ron", "--scene", "scenes/cornell-point.ron"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("lights_area: requires AreaLights"), "{out}");
+    assert!(out.contains("lights_point"), "{out}");
+    let (code, out, _) = glint(&["graph", "check", "passes/direct.ron", "--dot"]);
+    assert_eq!(code, 0);
+    assert!(out.starts_with("digraph"), "{out}");
+}
+
+#[test]
+fn malformed_scene_names_file_and_line() {
+    let dir = scratch("cli-scene");
+    let scene = write(&dir, "bad.ron", "Scene(\n  camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),\n  objects: [ Sphere(center: (0.0, 0.0, 0.0) radius: 1.0, material: \"w\") ],\n)\n");
+    let (code, _, err) = glint(&["render", &scene, "--out", "target/x.png"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("bad.ron:3"), "{err}");
+    let scene = write(&dir, "nan.ron", "Scene(\n  camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),\n  materials: { \"w\": Material(albedo: (0.5, 0.5, 0.5)) },\n  objects: [\n    Sphere(center: (0.0, 0.0, 0.0), radius: NaN, material: \"w\"),\n  ],\n)\n");
+    let (code, _, err) = glint(&["render", &scene, "--out", "target/x.png"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("nan.ron:5") && err.contains("radius"), "{err}");
+}
+
+#[test]
+fn broken_graph_and_shader_name_file_and_line() {
+    let dir = scratch("cli-graph");
+    std::fs::create_dir_all(dir.join("passes")).unwrap();
+    std::fs::create_dir_all(dir.join("shaders/shared")).unwrap();
+    for f in std::fs::read_dir(repo().join("shaders/shared")).unwrap() {
+        let f = f.unwrap();
+        std::fs::copy(f.path(), dir.join("shaders/shared").join(f.file_name())).unwrap();
+    }
+    // An unknown resource in a graph: the pass's line in the graph file.
+    let text = std::fs::read_to_string(repo().join("passes/direct.ron")).unwrap().replace("\"src\": \"lit\"", "\"src\": \"lti\"");
+    for f in ["gbuffer.wgsl", "albedo.wgsl", "lights.wgsl", "accumulate.wgsl"] {
+        std::fs::copy(repo().join("shaders").join(f), dir.join("shaders").join(f)).unwrap();
+    }
+    let graph = write(&dir.join("passes"), "g.ron", &text);
+    let (code, _, err) = glint(&["graph", "check", &graph]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("g.ron:") && err.contains("lti") && err.contains("accumulate"), "{err}");
+    // A WGSL type error: the shader file and line.
+    let good = std::fs::read_to_string(repo().join("passes/direct.ron")).unwrap();
+    let graph = write(&dir.join("passes"), "g.ron", &good);
+    let shader = std::fs::read_to_string(repo().join("shaders/albedo.wgsl")).unwrap().replace("let m = scene_materials[ids.x];", "let m: u32 = scene_materials[ids.x];");
+    let line = shader.lines().position(|l| l.contains("let m: u32")).unwrap() + 1;
+    write(&dir.join("shaders"), "albedo.wgsl", &shader);
+    let (code, _, err) = glint(&["graph", "check", &graph]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(&format!("albedo.wgsl:{line}")), "{err}");
+    // RON syntax error in the graph.
+    let graph = write(&dir.join("passes"), "g.ron", "FrameGraph(\n  name: \"x\",\n  passes: [,\n)\n");
+    let (code, _, err) = glint(&["graph", "check", &graph]);
+    assert_eq!(code, 2);
+    assert!(err.contains("g.ron:3"), "{err}");
+}
+
+#[test]
+fn bad_sizes_are_refused() {
+    let (code, _, err) = glint(&["render", "scenes/cornell.ron", "--size", "0x64", "--out", "target/x.png"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("empty") || err.contains("0x64"), "{err}");
+    let (code, _, err) = glint(&["render", "scenes/cornell.ron", "--size", "abc", "--out", "target/x.png"]);
+    assert_eq!(code, 2, "{err}");
+    if common::gpu().is_some() {
+        let (code, _, err) = glint(&["render", "scenes/cornell.ron", "--size", "100000x64", "--out", "target/x.png"]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("limit"), "{err}");
+    }
+}
+
+#[test]
+fn missing_obj_is_a_clear_error() {
+    let dir = scratch("cli-obj");
+    let scene = write(&dir, "obj.ron", "Scene(\n  camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),\n  objects: [\n    Mesh(path: \"nowhere.obj\"),\n  ],\n)\n");
+    let (code, _, err) = glint(&["render", &scene, "--out", "target/x.png"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("obj.ron:4") && err.contains("nowhere.obj"), "{err}");
+}

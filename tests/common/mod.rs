@@ -1,0 +1,72 @@
+//! Helpers shared by the GPU integration tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use glint::gpu::readback::ImageF32;
+use glint::gpu::Gpu;
+use glint::graph::{self, CompileOptions};
+use glint::render::Renderer;
+use glint::scene::Scene;
+
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The shared GPU context. Without an adapter the GPU tests are skipped
+/// locally but fail under CI=true (CI must have lavapipe).
+pub fn gpu() -> Option<&'static Gpu> {
+    static GPU: OnceLock<Option<Gpu>> = OnceLock::new();
+    let g = GPU.get_or_init(|| {
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            // SAFETY of intent: tests run in one process; set before any wgpu call.
+            unsafe { std::env::set_var("WGPU_BACKEND", "vulkan") };
+        }
+        match Gpu::new() {
+            Ok(g) => Some(g),
+            Err(e) if std::env::var("CI").is_ok_and(|v| v == "true") => panic!("CI needs a GPU adapter: {e}"),
+            Err(e) => {
+                eprintln!("skipping GPU test: {e}");
+                None
+            }
+        }
+    });
+    g.as_ref()
+}
+
+/// Renders `frames` frames of `scene` with the graph at `graph_path` and
+/// returns `output` (or the graph's output).
+pub fn render(
+    gpu: &Gpu,
+    scene: Scene,
+    graph_path: &Path,
+    size: (u32, u32),
+    frames: u32,
+    output: Option<&str>,
+) -> ImageF32 {
+    let options = CompileOptions { output: output.map(str::to_string) };
+    let compiled = graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.features, &options)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut r = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..frames {
+        r.frame(gpu, 0.0, false).unwrap_or_else(|e| panic!("{e}"));
+    }
+    r.read_output(gpu).unwrap_or_else(|e| panic!("{e}"))
+}
+
+pub fn load_scene(name: &str) -> Scene {
+    glint::scene::load(&repo().join("scenes").join(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A scene from RON text (meshes resolved relative to scenes/).
+pub fn scene_from(text: &str) -> Scene {
+    glint::scene::parse(text, &repo().join("scenes/test-scene.ron")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A unique scratch folder under target/.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = repo().join("target/test-scratch").join(format!("{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("create scratch dir");
+    dir
+}

@@ -1,0 +1,124 @@
+//! Golden images: every pass of every shipped graph, rendered small on the
+//! GPU (lavapipe in CI) and compared with FLIP against tests/golden/.
+//! GLINT_BLESS=1 rewrites the goldens; a missing golden fails under CI=true
+//! and is written otherwise. On failure, `-actual.png` and `-diff.png` land
+//! in target/golden/.
+
+mod common;
+
+use common::*;
+use glint::gpu::readback::ImageF32;
+use glint::graph::{self, CompileOptions};
+use glint::image_io;
+use glint::metrics;
+
+const SIZE: (u32, u32) = (64, 64);
+const FRAMES: u32 = 4;
+const MAX_MEAN: f32 = 0.02;
+const MAX_P99: f32 = 0.2;
+
+/// Maps a resource to something a PNG can show.
+fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
+    for p in &mut img.data {
+        match resource {
+            "gbuf_pos" | "gbuf_normal" => {
+                for c in p.iter_mut().take(3) {
+                    *c = image_io::srgb_to_linear((*c * 0.5 + 0.5).clamp(0.0, 1.0));
+                }
+            }
+            "gbuf_id" => {
+                let (m, o) = (p[0] as u32, p[1] as u32);
+                let h = |x: u32, k: u32| (x.wrapping_mul(2654435761).wrapping_add(k) >> 24) as f32 / 255.0;
+                *p = if o == u32::MAX { [0.0; 4] } else { [h(m, 1), h(o, 2), h(m ^ o, 3), 1.0] };
+            }
+            _ => {}
+        }
+    }
+    img
+}
+
+fn check(name: &str, actual: &ImageF32, failures: &mut Vec<String>) {
+    let golden = repo().join("tests/golden").join(format!("{name}.png"));
+    let out_dir = repo().join("target/golden");
+    let bless = std::env::var("GLINT_BLESS").is_ok_and(|v| v == "1");
+    if bless || !golden.exists() {
+        if !bless && std::env::var("CI").is_ok_and(|v| v == "true") {
+            failures.push(format!("{name}: golden {} is missing (run with GLINT_BLESS=1 and commit it)", golden.display()));
+            return;
+        }
+        image_io::save(actual, &golden).unwrap_or_else(|e| panic!("{e}"));
+        eprintln!("wrote golden {}", golden.display());
+        return;
+    }
+    let reference = image_io::load(&golden).unwrap_or_else(|e| panic!("{e}"));
+    if (reference.width, reference.height) != (actual.width, actual.height) {
+        failures.push(format!("{name}: golden is {}x{}, render is {}x{}", reference.width, reference.height, actual.width, actual.height));
+        return;
+    }
+    // Compare what the PNG holds: the actual image quantised the same way.
+    let quantised = {
+        let path = out_dir.join(format!("{name}-actual.png"));
+        image_io::save(actual, &path).unwrap_or_else(|e| panic!("{e}"));
+        image_io::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let (stats, diff) = metrics::flip(&reference, &quantised);
+    if stats.mean > MAX_MEAN || stats.p99 > MAX_P99 {
+        let diff_path = out_dir.join(format!("{name}-diff.png"));
+        let _ = image::RgbImage::from_raw(actual.width, actual.height, diff).map(|d| d.save(&diff_path));
+        failures.push(format!(
+            "{name}: FLIP mean {:.4} (max {MAX_MEAN}), p99 {:.4} (max {MAX_P99}); see {}",
+            stats.mean,
+            stats.p99,
+            diff_path.display()
+        ));
+    } else {
+        let _ = std::fs::remove_file(out_dir.join(format!("{name}-actual.png")));
+    }
+}
+
+/// Renders every resource each pass of `graph` is the last writer of.
+fn golden_graph(graph_file: &str, scene_file: &str, failures: &mut Vec<String>) -> usize {
+    let Some(gpu) = gpu() else { return 0 };
+    let graph_path = repo().join("passes").join(graph_file);
+    let features = load_scene(scene_file).features;
+    let full = graph::load_and_compile(&graph_path, &repo().join("shaders"), &features, &CompileOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut count = 0;
+    for pass in &full.schedule.passes {
+        for written in &pass.writes {
+            let resource = written.split('@').next().unwrap_or(written);
+            let last_writer = full.schedule.passes.iter().rev().find(|p| p.writes.iter().any(|w| w.starts_with(&format!("{resource}@"))));
+            if last_writer.map(|p| &p.name) != Some(&pass.name) {
+                continue;
+            }
+            let img = render(gpu, load_scene(scene_file), &graph_path, SIZE, FRAMES, Some(resource));
+            let name = format!(
+                "{}-{}-{}-{resource}",
+                graph_file.trim_end_matches(".ron"),
+                scene_file.trim_end_matches(".ron"),
+                pass.name
+            );
+            check(&name, &visualize(resource, img), failures);
+            count += 1;
+        }
+    }
+    count
+}
+
+#[test]
+fn golden_images_of_every_pass() {
+    let mut failures = Vec::new();
+    let mut count = 0;
+    for (graph, scene) in [
+        ("direct.ron", "cornell.ron"),
+        ("direct.ron", "cornell-point.ron"),
+        ("direct.ron", "moving-lights.ron"),
+        ("pathtrace.ron", "cornell.ron"),
+    ] {
+        count += golden_graph(graph, scene, &mut failures);
+    }
+    if gpu().is_some() {
+        assert!(count >= 12, "expected a golden per pass output, got {count}");
+    }
+    assert!(failures.is_empty(), "golden mismatches:\n{}", failures.join("\n"));
+}

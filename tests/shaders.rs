@@ -1,0 +1,75 @@
+//! Every shader in shaders/ parses and validates with naga, and the WGSL
+//! structs match their Rust mirrors byte for byte. No GPU needed.
+
+mod common;
+
+use common::repo;
+use glint::gpu::frame::{CameraGpu, FrameGpu};
+use glint::scene::{LightGpu, MaterialGpu, MeshGpu, SphereGpu, TriangleGpu};
+use std::mem::{offset_of, size_of};
+
+#[test]
+fn every_shader_validates() {
+    let dir = repo().join("shaders");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        if name.ends_with(".wgsl") {
+            glint::shader::load(&dir, &name).unwrap_or_else(|e| panic!("{e}"));
+            n += 1;
+        }
+    }
+    for entry in std::fs::read_dir(dir.join("shared")).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        if name.ends_with(".wgsl") {
+            glint::shader::load(&dir, &format!("shared/{name}")).unwrap_or_else(|e| panic!("{e}"));
+            n += 1;
+        }
+    }
+    assert!(n >= 10, "only {n} shaders found");
+}
+
+/// (size, [(member, offset)]) of a WGSL struct, from naga.
+fn wgsl_layout(module: &naga::Module, name: &str) -> (u32, Vec<(String, u32)>) {
+    let ty = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no struct {name}")).1;
+    let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
+    (*span, members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset)).collect())
+}
+
+#[test]
+fn wgsl_structs_match_rust() {
+    let shader = glint::shader::load(&repo().join("shaders"), "shared/scene.wgsl").unwrap_or_else(|e| panic!("{e}"));
+    let m = &shader.module;
+    macro_rules! check {
+        ($wgsl:literal, $rust:ty, [$($field:ident),*]) => {{
+            let (size, members) = wgsl_layout(m, $wgsl);
+            assert_eq!(size as usize, size_of::<$rust>(), "size of {}", $wgsl);
+            $(
+                let off = members.iter().find(|(n, _)| n == stringify!($field)).unwrap_or_else(|| panic!("{}.{}", $wgsl, stringify!($field))).1;
+                assert_eq!(off as usize, offset_of!($rust, $field), "{}.{}", $wgsl, stringify!($field));
+            )*
+        }};
+    }
+    check!("Camera", CameraGpu, [origin, tan_half_fov, right, aspect, up, forward]);
+    check!("Frame", FrameGpu, [camera, prev_camera, size, frame_index, accum_count, time, seed, scene_epoch, n_spheres, n_meshes, n_triangles, n_lights, background]);
+    check!("Sphere", SphereGpu, [center, radius, material, light, object]);
+    check!("Triangle", TriangleGpu, [p0, material, p1, object, p2, n0, n1, n2]);
+    check!("Mesh", MeshGpu, [bmin, first, bmax, count]);
+    check!("Material", MaterialGpu, [albedo, specular, emission, roughness]);
+    check!("Light", LightGpu, [position, radius, color, kind]);
+}
+
+#[test]
+fn shader_errors_point_at_the_original_file_and_line() {
+    let dir = common::scratch("bad-shader");
+    std::fs::create_dir_all(dir.join("shared")).unwrap();
+    std::fs::write(dir.join("shared/helper.wgsl"), "fn helper() -> f32 {\n    return 1.0;\n}\n").unwrap();
+    // A type error on line 4 of the pass file, after an import.
+    std::fs::write(dir.join("bad.wgsl"), "#import helper\n\n@compute @workgroup_size(1)\nfn main() { let x: u32 = helper(); }\n").unwrap();
+    let err = glint::shader::load(&dir, "bad.wgsl").unwrap_err().to_string();
+    assert!(err.contains("bad.wgsl:4"), "{err}");
+    // A syntax error inside the imported file points into it.
+    std::fs::write(dir.join("shared/helper.wgsl"), "fn helper() -> f32 {\n    return 1.0 +;\n}\n").unwrap();
+    let err = glint::shader::load(&dir, "bad.wgsl").unwrap_err().to_string();
+    assert!(err.contains("helper.wgsl:2"), "{err}");
+}

@@ -1,0 +1,30 @@
+# Shared by tools/run and tools/test: make sure a Vulkan driver is present.
+# On a machine without a GPU driver this installs Mesa's lavapipe (CPU).
+
+have_vulkan_icd() {
+    ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1
+}
+
+apt_install() {
+    local sudo=""
+    if [ "$(id -u)" != 0 ]; then sudo="sudo"; fi
+    if ! $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y "$@"; then
+        $sudo apt-get update && $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y "$@"
+    fi
+}
+
+ensure_vulkan() {
+    if ! have_vulkan_icd; then
+        echo "tools: no Vulkan driver found; installing mesa-vulkan-drivers (lavapipe)" >&2
+        apt_install mesa-vulkan-drivers
+    fi
+    # Mesa also exposes a GL llvmpipe adapter; glint wants the Vulkan one.
+    export WGPU_BACKEND="${WGPU_BACKEND:-vulkan}"
+}
+
+ensure_cxx() {
+    # nv-flip builds FLIP's C++ sources.
+    if ! command -v g++ >/dev/null 2>&1; then
+        apt_install g++
+    fi
+}
