@@ -9,7 +9,7 @@ use crate::gpu::frame::{CameraGpu, FrameGpu};
 use crate::gpu::readback::ImageF32;
 use crate::gpu::scene_buffers::SceneBuffers;
 use crate::gpu::Gpu;
-use crate::graph::executor::Executor;
+use crate::graph::executor::{Executor, Timing};
 use crate::graph::CompiledGraph;
 use crate::scene::Scene;
 
@@ -55,9 +55,9 @@ impl Renderer {
         Ok(Renderer { scene, buffers, executor, frame_buffer, size, seed, frame_index: 0, accum_count: 0, last: None })
     }
 
-    /// Renders one frame at absolute time `time` seconds. With `timed`,
-    /// waits for it and returns per-pass GPU milliseconds (if available).
-    pub fn frame(&mut self, gpu: &Gpu, time: f32, timed: bool) -> Result<Option<Vec<f64>>, UserError> {
+    /// Renders one frame at absolute time `time` seconds. When timed, waits
+    /// for it and returns per-pass milliseconds.
+    pub fn frame(&mut self, gpu: &Gpu, time: f32, timing: Timing) -> Result<Option<Vec<f64>>, UserError> {
         if self.scene.animate(time) {
             self.buffers.update(&gpu.queue, self.scene.pack());
         }
@@ -91,7 +91,7 @@ impl Renderer {
             _pad1: 0.0,
         };
         gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        let ms = self.executor.run_frame(gpu, timed)?;
+        let ms = self.executor.run_frame(gpu, timing)?;
         self.last = Some((camera, epoch));
         self.frame_index = self.frame_index.wrapping_add(1);
         self.accum_count = self.accum_count.saturating_add(1);

@@ -16,6 +16,29 @@ use crate::graph::schedule::*;
 use crate::graph::CompiledGraph;
 use crate::shader::{BindingKind, SampleType, StorageAccess};
 
+/// How a frame is timed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Timing {
+    /// Not timed: submit and go on.
+    None,
+    /// GPU timestamps around each pass.
+    Gpu,
+    /// Each pass submitted alone and timed on the CPU clock.
+    WallPerPass,
+}
+
+impl Timing {
+    /// Timestamps on GPUs; per-pass wall time on CPU adapters (lavapipe's
+    /// timestamps do not bracket the dispatches' work).
+    pub fn for_adapter(gpu: &Gpu) -> Timing {
+        if gpu.info.device_type == wgpu::DeviceType::Cpu || !gpu.timestamps {
+            Timing::WallPerPass
+        } else {
+            Timing::Gpu
+        }
+    }
+}
+
 struct PassGpu {
     pipeline: wgpu::ComputePipeline,
     /// (group index, bind group) for parity 0 and 1.
@@ -213,29 +236,52 @@ impl Executor {
     /// Records one frame's dispatches.
     pub fn encode(&self, enc: &mut wgpu::CommandEncoder) {
         for (i, (p, sp)) in self.passes.iter().zip(&self.schedule.passes).enumerate() {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(&sp.name),
-                timestamp_writes: self.timer.as_ref().map(|t| t.writes(i)),
-            });
-            cp.set_pipeline(&p.pipeline);
-            for (g, bg) in &p.bind_groups[usize::from(self.parity)] {
-                cp.set_bind_group(*g, bg, &[]);
-            }
-            cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
+            self.encode_pass(enc, p, sp, self.timer.as_ref().map(|t| t.writes(i)));
         }
         if let Some(t) = &self.timer {
             t.resolve(enc);
         }
     }
 
-    /// Records and submits one frame; returns per-pass GPU milliseconds when
-    /// the adapter has timestamps (this waits for the frame).
-    pub fn run_frame(&mut self, gpu: &Gpu, timed: bool) -> Result<Option<Vec<f64>>, UserError> {
+    fn encode_pass(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        p: &PassGpu,
+        sp: &ScheduledPass,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes });
+        cp.set_pipeline(&p.pipeline);
+        for (g, bg) in &p.bind_groups[usize::from(self.parity)] {
+            cp.set_bind_group(*g, bg, &[]);
+        }
+        cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
+    }
+
+    /// Records and submits one frame. With `Timing::Gpu`, returns per-pass
+    /// GPU milliseconds from timestamps (when the adapter has them); with
+    /// `Timing::WallPerPass`, submits each pass alone and times it on the
+    /// CPU clock (for CPU adapters, whose timestamps do not bracket the
+    /// work). Both wait for the frame.
+    pub fn run_frame(&mut self, gpu: &Gpu, timing: Timing) -> Result<Option<Vec<f64>>, UserError> {
+        if timing == Timing::WallPerPass {
+            let mut ms = Vec::with_capacity(self.passes.len());
+            for (p, sp) in self.passes.iter().zip(&self.schedule.passes) {
+                let start = std::time::Instant::now();
+                let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&sp.name) });
+                self.encode_pass(&mut enc, p, sp, None);
+                gpu.queue.submit([enc.finish()]);
+                gpu.wait();
+                ms.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+            self.end_frame();
+            return Ok(Some(ms));
+        }
         let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         self.encode(&mut enc);
         gpu.queue.submit([enc.finish()]);
-        let ms = match (&self.timer, timed) {
-            (Some(t), true) => Some(t.read_ms(&gpu.device)?),
+        let ms = match (&self.timer, timing) {
+            (Some(t), Timing::Gpu) => Some(t.read_ms(&gpu.device)?),
             _ => None,
         };
         self.end_frame();

@@ -6,6 +6,8 @@ pub mod desc;
 pub mod executor;
 pub mod report;
 pub mod schedule;
+#[cfg(test)]
+mod tests;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -50,7 +50,7 @@ pub fn render(
         .unwrap_or_else(|e| panic!("{e}"));
     let mut r = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
     for _ in 0..frames {
-        r.frame(gpu, 0.0, false).unwrap_or_else(|e| panic!("{e}"));
+        r.frame(gpu, 0.0, glint::graph::executor::Timing::None).unwrap_or_else(|e| panic!("{e}"));
     }
     r.read_output(gpu).unwrap_or_else(|e| panic!("{e}"))
 }

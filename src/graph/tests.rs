@@ -1,0 +1,1 @@
+//! Frame-graph compile tests.
