@@ -23,9 +23,68 @@ pub fn to_srgb8(img: &ImageF32) -> Vec<u8> {
         .collect()
 }
 
-/// Writes `.png` (sRGB) or `.exr` (linear RGBA f32), by extension.
+/// Writes a PFM (linear RGB f32, bottom row first, little-endian).
+fn save_pfm(img: &ImageF32, path: &Path) -> std::io::Result<()> {
+    let mut bytes = format!("PF\n{} {}\n-1.0\n", img.width, img.height).into_bytes();
+    for y in (0..img.height).rev() {
+        for x in 0..img.width {
+            for c in &img.get(x, y)[..3] {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(path, bytes)
+}
+
+/// Reads a colour PFM (`PF`), either byte order.
+fn load_pfm(path: &Path) -> Result<ImageF32, UserError> {
+    let bad = |m: &str| UserError::in_file(path, format!("not a colour PFM: {m}"));
+    let bytes = std::fs::read(path).map_err(|e| UserError::in_file(path, format!("cannot read the image: {e}")))?;
+    // Three whitespace-separated header tokens after "PF", then one byte.
+    let mut fields = Vec::new();
+    let mut at = 0;
+    while fields.len() < 4 {
+        while at < bytes.len() && bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        let start = at;
+        while at < bytes.len() && !bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        if start == at {
+            return Err(bad("short header"));
+        }
+        fields.push(String::from_utf8_lossy(&bytes[start..at]).into_owned());
+    }
+    at += 1;
+    if fields[0] != "PF" {
+        return Err(bad("it does not start with PF"));
+    }
+    let w: u32 = fields[1].parse().map_err(|_| bad("bad width"))?;
+    let h: u32 = fields[2].parse().map_err(|_| bad("bad height"))?;
+    let scale: f32 = fields[3].parse().map_err(|_| bad("bad scale"))?;
+    let need = (w as usize) * (h as usize) * 12;
+    let data = bytes.get(at..at + need).ok_or_else(|| bad("the pixel data is short"))?;
+    let mut img = ImageF32::new(w, h);
+    for (i, px) in data.chunks_exact(12).enumerate() {
+        let f = |k: usize| {
+            let b = [px[4 * k], px[4 * k + 1], px[4 * k + 2], px[4 * k + 3]];
+            if scale < 0.0 { f32::from_le_bytes(b) } else { f32::from_be_bytes(b) }
+        };
+        let (x, y) = (i as u32 % w, h - 1 - i as u32 / w);
+        img.data[(y * w + x) as usize] = [f(0), f(1), f(2), 1.0];
+    }
+    Ok(img)
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase)
+}
+
+/// Writes `.png` (sRGB), `.exr` (linear RGBA f32) or `.pfm` (linear RGB
+/// f32), by extension.
 pub fn save(img: &ImageF32, path: &Path) -> Result<(), UserError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = extension(path);
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
             .map_err(|e| UserError::in_file(path, format!("cannot create the folder {}: {e}", dir.display())))?;
@@ -40,15 +99,19 @@ pub fn save(img: &ImageF32, path: &Path) -> Result<(), UserError> {
                 .ok_or_else(|| UserError::in_file(path, "internal: image size mismatch"))?
                 .save(path)
         }
-        _ => return Err(UserError::in_file(path, "unknown image type: the output must end in .png or .exr")),
+        Some("pfm") => return save_pfm(img, path).map_err(|e| UserError::in_file(path, format!("cannot write the image: {e}"))),
+        _ => return Err(UserError::in_file(path, "unknown image type: the output must end in .png, .exr or .pfm")),
     };
     result.map_err(|e| UserError::in_file(path, format!("cannot write the image: {e}")))
 }
 
-/// Reads a PNG (decoded from sRGB to linear) or an EXR (linear).
+/// Reads a PNG (decoded from sRGB to linear), an EXR or a PFM (linear).
 pub fn load(path: &Path) -> Result<ImageF32, UserError> {
+    if extension(path).as_deref() == Some("pfm") {
+        return load_pfm(path);
+    }
     let dynimg = image::open(path).map_err(|e| UserError::in_file(path, format!("cannot read the image: {e}")))?;
-    let is_exr = path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let is_exr = extension(path).as_deref() == Some("exr");
     let rgba = dynimg.to_rgba32f();
     let mut img = ImageF32::new(rgba.width(), rgba.height());
     for (dst, src) in img.data.iter_mut().zip(rgba.pixels()) {
@@ -59,4 +122,34 @@ pub fn load(path: &Path) -> Result<ImageF32, UserError> {
         };
     }
     Ok(img)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pfm_and_exr_round_trip() {
+        let mut img = ImageF32::new(3, 2);
+        for (i, p) in img.data.iter_mut().enumerate() {
+            *p = [i as f32, 0.5 * i as f32, 100.0 + i as f32, 1.0];
+        }
+        let dir = std::env::temp_dir().join(format!("glint-io-{}", std::process::id()));
+        for name in ["a.pfm", "a.exr"] {
+            let path = dir.join(name);
+            save(&img, &path).unwrap();
+            assert_eq!(load(&path).unwrap(), img, "{name}");
+        }
+        assert!(load(&dir.join("missing.pfm")).is_err());
+        std::fs::write(dir.join("bad.pfm"), "PF\n3 2\n-1.0\nshort").unwrap();
+        assert!(load(&dir.join("bad.pfm")).unwrap_err().to_string().contains("short"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn srgb_round_trip() {
+        for x in [0.0, 0.001, 0.2, 0.5, 1.0] {
+            assert!((srgb_to_linear(linear_to_srgb(x)) - x).abs() < 1e-5);
+        }
+    }
 }

@@ -25,6 +25,14 @@ pub enum Command {
         #[command(subcommand)]
         command: GraphCommand,
     },
+    /// Compare an image with a reference: FLIP, relMSE, PSNR, block error.
+    Compare {
+        reference: PathBuf,
+        test: PathBuf,
+        /// Block size for the block-averaged relative error.
+        #[arg(long, default_value_t = 8)]
+        block: u32,
+    },
     /// Validate WGSL shaders with naga (all of shaders/ when none are named).
     Shaders {
         /// Shader files under the shader folder, e.g. lights.wgsl.
@@ -51,6 +59,25 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+fn compare(reference: &std::path::Path, test: &std::path::Path, block: u32) -> Result<(), UserError> {
+    let r = crate::image_io::load(reference)?;
+    let t = crate::image_io::load(test)?;
+    if (r.width, r.height) != (t.width, t.height) {
+        return Err(UserError::in_file(test, format!("is {}x{}, the reference is {}x{}", t.width, t.height, r.width, r.height)));
+    }
+    let (flip, _) = crate::metrics::flip(&r, &t);
+    let b = crate::metrics::block_relative_error(&r, &t, block, 0.01);
+    println!("flip_mean={:.5}", flip.mean);
+    println!("flip_p99={:.5}", flip.p99);
+    println!("relmse={:.6}", crate::metrics::rel_mse(&r, &t));
+    println!("psnr_db={:.3}", crate::metrics::psnr(&r, &t));
+    println!("block{block}_rel_err_mean={:.5}", b.mean);
+    println!("block{block}_rel_err_p95={:.5}", b.p95);
+    println!("block{block}_rel_err_max={:.5}", b.max);
+    println!("luminance_ratio={:.5}", b.luminance_ratio);
+    Ok(())
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main() -> i32 {
     let cli = Cli::parse();
@@ -58,6 +85,7 @@ pub fn main() -> i32 {
         Command::Render(args) => render_cmd::run(args),
         Command::Graph { command: GraphCommand::Check(args) } => graph_cmd::check(args),
         Command::Shaders { files, dir } => graph_cmd::check_shaders(files, dir),
+        Command::Compare { reference, test, block } => compare(&reference, &test, block),
     };
     match result {
         Ok(()) => 0,

@@ -34,7 +34,7 @@ pub struct RenderArgs {
     pub dt: f32,
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
-    /// Output file: .png (sRGB) or .exr (linear); repeat for several.
+    /// Output file: .png (sRGB), .exr or .pfm (linear); repeat for several.
     #[arg(long, required = true)]
     pub out: Vec<PathBuf>,
     /// Write this graph resource instead of the graph's output (debugging).
@@ -64,8 +64,8 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     }
     for out in &args.out {
         let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-        if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
-            return Err(UserError::in_file(out, "the output must end in .png or .exr"));
+        if !matches!(ext.as_deref(), Some("png") | Some("exr") | Some("pfm")) {
+            return Err(UserError::in_file(out, "the output must end in .png, .exr or .pfm"));
         }
     }
     let scene = scene::load(&args.scene)?;

@@ -57,6 +57,49 @@ pub fn psnr(reference: &ImageF32, test: &ImageF32) -> f64 {
     if mse == 0.0 { f64::INFINITY } else { 10.0 * (1.0 / mse).log10() }
 }
 
+/// Relative error of `test` against `reference` after averaging both over
+/// `block`x`block` pixel blocks, per channel: |t - r| / max(r, floor).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlockError {
+    pub mean: f64,
+    pub p95: f64,
+    pub max: f64,
+    /// Mean luminance of test over reference.
+    pub luminance_ratio: f64,
+}
+
+pub fn block_relative_error(reference: &ImageF32, test: &ImageF32, block: u32, floor: f64) -> BlockError {
+    let block = block.max(1);
+    let (bw, bh) = (reference.width / block, reference.height / block);
+    let mut errs = Vec::new();
+    let average = |img: &ImageF32, bx: u32, by: u32, c: usize| {
+        let mut sum = 0.0;
+        for y in by * block..(by + 1) * block {
+            for x in bx * block..(bx + 1) * block {
+                sum += f64::from(img.get(x, y)[c]);
+            }
+        }
+        sum / f64::from(block * block)
+    };
+    for by in 0..bh {
+        for bx in 0..bw {
+            for c in 0..3 {
+                let (r, t) = (average(reference, bx, by, c), average(test, bx, by, c));
+                errs.push((t - r).abs() / r.max(floor));
+            }
+        }
+    }
+    let lum = |img: &ImageF32| img.data.iter().map(|p| 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])).sum::<f64>();
+    errs.sort_by(f64::total_cmp);
+    let n = errs.len().max(1);
+    BlockError {
+        mean: errs.iter().sum::<f64>() / n as f64,
+        p95: errs.get(((n as f64 * 0.95) as usize).min(n - 1)).copied().unwrap_or(0.0),
+        max: errs.last().copied().unwrap_or(0.0),
+        luminance_ratio: lum(test) / lum(reference).max(1e-30),
+    }
+}
+
 /// Median of a sample (NaN-free input); 0 for an empty one.
 pub fn median(values: &[f64]) -> f64 {
     let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
@@ -77,6 +120,23 @@ mod tests {
         assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
         assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
         assert_eq!(median(&[]), 0.0);
+    }
+
+    #[test]
+    fn block_error_of_a_scaled_image() {
+        let mut a = ImageF32::new(16, 16);
+        for p in &mut a.data {
+            *p = [0.5, 0.25, 1.0, 1.0];
+        }
+        let mut b = a.clone();
+        for p in &mut b.data {
+            for c in p.iter_mut().take(3) {
+                *c *= 1.1;
+            }
+        }
+        let e = block_relative_error(&a, &b, 8, 0.01);
+        assert!((e.mean - 0.1).abs() < 1e-6 && (e.max - 0.1).abs() < 1e-6, "{e:?}");
+        assert!((e.luminance_ratio - 1.1).abs() < 1e-6);
     }
 
     #[test]
