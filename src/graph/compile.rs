@@ -714,19 +714,25 @@ fn order_passes(plans: &[PassPlan], vs: &Versions, groups: &[Group]) -> Result<V
 }
 
 fn find_cycle(edges: &[BTreeSet<usize>], indegree: &[usize]) -> Vec<usize> {
-    // Walk from a node left in the cycle along edges that stay among the
-    // remaining nodes until one repeats.
+    // Every node Kahn's algorithm left over has a left-over predecessor, but
+    // not necessarily a left-over successor (a pass downstream of a cycle):
+    // walk backwards until a node repeats, then read the loop forwards,
+    // starting from its first pass in file order.
     let remaining = |i: usize| indegree[i] > 0;
     let Some(start) = (0..edges.len()).find(|&i| remaining(i)) else { return vec![] };
     let mut path = vec![start];
     let mut cur = start;
     loop {
-        let Some(&next) = edges[cur].iter().find(|&&t| remaining(t)) else { return path };
-        if let Some(pos) = path.iter().position(|&p| p == next) {
-            return path[pos..].to_vec();
+        let Some(prev) = (0..edges.len()).find(|&p| remaining(p) && edges[p].contains(&cur)) else { return path };
+        if let Some(pos) = path.iter().position(|&p| p == prev) {
+            let mut cycle = path[pos..].to_vec();
+            cycle.reverse();
+            let first = (0..cycle.len()).min_by_key(|&i| cycle[i]).unwrap_or(0);
+            cycle.rotate_left(first);
+            return cycle;
         }
-        path.push(next);
-        cur = next;
+        path.push(prev);
+        cur = prev;
     }
 }
 

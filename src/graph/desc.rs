@@ -156,7 +156,9 @@ where
 impl FrameGraph {
     pub fn parse(text: &str, path: &Path) -> Result<FrameGraph, UserError> {
         ron::Options::default()
-            .with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES)
+            .with_default_extension(
+                ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES | ron::extensions::Extensions::IMPLICIT_SOME,
+            )
             .from_str(text)
             .map_err(|e| ron_error(path, &e))
     }
