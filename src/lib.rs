@@ -5,6 +5,7 @@
 //! scene features into a `Schedule`, and the executor records one command
 //! encoder per frame from it.
 
+pub mod bvh;
 pub mod cli;
 pub mod error;
 pub mod gpu;

@@ -8,6 +8,7 @@ use crate::error::UserError;
 use crate::gpu::frame::{CameraGpu, FrameGpu};
 use crate::gpu::readback::ImageF32;
 use crate::gpu::scene_buffers::SceneBuffers;
+use crate::bvh::scene::{BuildStats, SceneBvh};
 use crate::gpu::Gpu;
 use crate::graph::executor::{Executor, Timing};
 use crate::graph::CompiledGraph;
@@ -16,6 +17,9 @@ use crate::scene::Scene;
 pub struct Renderer {
     pub scene: Scene,
     pub buffers: SceneBuffers,
+    pub bvh: SceneBvh,
+    /// The last BVH update (build on load, refit/TLAS rebuild on motion).
+    pub bvh_stats: BuildStats,
     pub executor: Executor,
     frame_buffer: wgpu::Buffer,
     pub size: (u32, u32),
@@ -45,21 +49,26 @@ pub fn check_size(gpu: &Gpu, size: (u32, u32)) -> Result<(), UserError> {
 impl Renderer {
     pub fn new(gpu: &Gpu, scene: Scene, graph: &CompiledGraph, size: (u32, u32), seed: u32) -> Result<Renderer, UserError> {
         check_size(gpu, size)?;
-        let buffers = SceneBuffers::new(&gpu.device, scene.pack());
+        let mut bvh = SceneBvh::default();
+        let mut data = scene.pack();
+        let bvh_stats = bvh.update(&mut data);
+        let buffers = SceneBuffers::new(&gpu.device, data);
         let frame_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&FrameGpu::zeroed_frame()),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let executor = Executor::new(gpu, graph, &frame_buffer, &buffers, size)?;
-        Ok(Renderer { scene, buffers, executor, frame_buffer, size, seed, frame_index: 0, accum_count: 0, last: None })
+        Ok(Renderer { scene, buffers, bvh, bvh_stats, executor, frame_buffer, size, seed, frame_index: 0, accum_count: 0, last: None })
     }
 
     /// Renders one frame at absolute time `time` seconds. When timed, waits
     /// for it and returns per-pass milliseconds.
     pub fn frame(&mut self, gpu: &Gpu, time: f32, timing: Timing) -> Result<Option<Vec<f64>>, UserError> {
         if self.scene.animate(time) {
-            self.buffers.update(&gpu.queue, self.scene.pack());
+            let mut data = self.scene.pack();
+            self.bvh_stats = self.bvh.update(&mut data);
+            self.buffers.update(&gpu.queue, data);
         }
         let camera = CameraGpu::new(&self.scene.camera, self.size);
         let epoch = self.buffers.epoch;
@@ -83,7 +92,7 @@ impl Renderer {
             seed: self.seed,
             scene_epoch: epoch,
             n_spheres: data.spheres.len() as u32,
-            n_meshes: data.meshes.len() as u32,
+            n_instances: data.instances.len() as u32,
             n_triangles: data.triangles.len() as u32,
             n_lights: data.lights.len() as u32,
             _pad0: 0,

@@ -21,7 +21,7 @@ struct Frame {
     seed: u32,
     scene_epoch: u32,
     n_spheres: u32,
-    n_meshes: u32,
+    n_instances: u32,
     n_triangles: u32,
     n_lights: u32,
     _pad0: u32,

@@ -1,10 +1,18 @@
-// Ray queries against the scene. Every pass traces through `trace_closest`
-// and `trace_any`; the acceleration structure lives behind them.
-// For now: spheres brute force, triangles brute force per mesh behind the
-// mesh's bounding box.
-#import scene
+// Ray queries against the scene: `trace_closest` and `trace_any`, every
+// pass goes through them. Two-level BVH traversal with a fixed private
+// stack, nearer child first; watertight triangles (Woop, Benthin, Wald
+// 2013), conservative slabs (Ize), precise spheres (Ray Tracing Gems ch. 7).
+// A NaN/Inf/zero ray fails every box test and ends as a miss.
+// Mirrored in Rust by src/bvh/ray.rs.
+#import bvh
 
 const NO_HIT: u32 = 0xffffffffu;
+const SPHERE_BIT: u32 = 0x80000000u;
+const STACK_SIZE: u32 = 64u;
+// Far more steps than any valid traversal takes: a hard stop.
+const MAX_STEPS: u32 = 4194304u;
+// 1 + 2 gamma(3), Ize's bound on the slab test's rounding.
+const IZE_SCALE: f32 = 1.0000003576;
 
 struct Hit {
     t: f32,
@@ -25,15 +33,108 @@ fn no_hit(tmax: f32) -> Hit {
     return Hit(tmax, vec3f(0.0), vec3f(0.0), 0u, NO_HIT, -1);
 }
 
+// A ray with the watertight test's per-ray constants.
+struct Ray {
+    o: vec3f,
+    d: vec3f,
+    inv: vec3f,
+    // perm * v = (v[kx], v[ky], v[kz]): a matrix instead of dynamic vector
+    // indexing, which CPU drivers turn into memory traffic. Exact (0/1 entries).
+    perm: mat3x3f,
+    s: vec3f,
+}
+
+fn unit_axis(k: u32) -> vec3f {
+    return vec3f(f32(k == 0u), f32(k == 1u), f32(k == 2u));
+}
+
+// 1/d with tiny components replaced by +-1e30 (keeps 0 * inf out of the slabs).
+fn safe_inverse(d: vec3f) -> vec3f {
+    let negative = (bitcast<vec3u>(d) & vec3u(0x80000000u)) != vec3u(0u);
+    let big = select(vec3f(1e30), vec3f(-1e30), negative);
+    return select(1.0 / d, big, abs(d) < vec3f(1e-30));
+}
+
+fn make_ray(o: vec3f, d: vec3f) -> Ray {
+    let a = abs(d);
+    var kz = 2u;
+    if a.x > a.y {
+        if a.x > a.z { kz = 0u; }
+    } else if a.y > a.z {
+        kz = 1u;
+    }
+    var kx = (kz + 1u) % 3u;
+    var ky = (kx + 1u) % 3u;
+    if select(select(d.x, d.y, kz == 1u), d.z, kz == 2u) < 0.0 {
+        let t = kx;
+        kx = ky;
+        ky = t;
+    }
+    let perm = transpose(mat3x3f(unit_axis(kx), unit_axis(ky), unit_axis(kz)));
+    let pd = perm * d;
+    let s = vec3f(pd.x / pd.z, pd.y / pd.z, 1.0 / pd.z);
+    return Ray(o, d, safe_inverse(d), perm, s);
+}
+
+// Entry distance of the box in [0, tmax], or -1 on a miss.
+fn hit_box(r: Ray, bmin: vec3f, bmax: vec3f, tmax: f32) -> f32 {
+    let t0 = (bmin - r.o) * r.inv;
+    let t1 = (bmax - r.o) * r.inv;
+    let lo = min(t0, t1);
+    let hi = max(t0, t1);
+    let near = max(max(max(lo.x, lo.y), lo.z), 0.0);
+    let far = min(min(min(hi.x, hi.y), hi.z), tmax) * IZE_SCALE;
+    return select(-1.0, near, near <= far);
+}
+
+// Watertight ray/triangle: (t, b1, b2) with t in (0, tmax), or t = -1.
+fn hit_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f, tmax: f32) -> vec3f {
+    let a = r.perm * (p0 - r.o);
+    let b = r.perm * (p1 - r.o);
+    let c = r.perm * (p2 - r.o);
+    let ax = a.x - r.s.x * a.z;
+    let ay = a.y - r.s.y * a.z;
+    let bx = b.x - r.s.x * b.z;
+    let by = b.y - r.s.y * b.z;
+    let cx = c.x - r.s.x * c.z;
+    let cy = c.y - r.s.y * c.z;
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    let miss = vec3f(-1.0, 0.0, 0.0);
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return miss;
+    }
+    let det = u + v + w;
+    if !(det != 0.0) {
+        return miss;
+    }
+    let az = r.s.z * a.z;
+    let bz = r.s.z * b.z;
+    let cz = r.s.z * c.z;
+    let t = u * az + v * bz + w * cz;
+    if det < 0.0 {
+        if t >= 0.0 || t < tmax * det { return miss; }
+    } else {
+        if t <= 0.0 || t > tmax * det { return miss; }
+    }
+    let inv = 1.0 / det;
+    let tt = t * inv;
+    if !(tt > 0.0 && tt < tmax) {
+        return miss;
+    }
+    return vec3f(tt, v * inv, w * inv);
+}
+
 // Ray/sphere with the precision fix of Ray Tracing Gems ch. 7: the
-// discriminant from the perpendicular distance, and the smaller root from
-// c / q. `rd` must be unit length. Returns the nearest t in (tmin, tmax), or -1.
+// discriminant from the perpendicular distance, the smaller root from c / q.
+// `rd` must be unit length. Nearest t in (tmin, tmax), or -1.
 fn ray_sphere(ro: vec3f, rd: vec3f, center: vec3f, radius: f32, tmin: f32, tmax: f32) -> f32 {
     let f = ro - center;
     let b = -dot(f, rd);
     let l = f + b * rd;
     let disc = radius * radius - dot(l, l);
-    if disc < 0.0 {
+    if !(disc >= 0.0) {
         return -1.0;
     }
     let c = dot(f, f) - radius * radius;
@@ -54,106 +155,128 @@ fn ray_sphere(ro: vec3f, rd: vec3f, center: vec3f, radius: f32, tmin: f32, tmax:
     return -1.0;
 }
 
-// Slab test; true if the box is entered before tmax.
-fn ray_box(ro: vec3f, inv_rd: vec3f, bmin: vec3f, bmax: vec3f, tmax: f32) -> bool {
-    let t0 = (bmin - ro) * inv_rd;
-    let t1 = (bmax - ro) * inv_rd;
-    let tnear = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
-    let tfar = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
-    return tnear <= tfar && tfar >= 0.0 && tnear < tmax;
+// The next float above x (x >= 0 finite): a hit at exactly the best distance
+// still counts, and ties go to the lower primitive id (as in the mirror).
+fn next_up(x: f32) -> f32 {
+    return select(bitcast<f32>(bitcast<u32>(x) + 1u), bitcast<f32>(1u), x == 0.0);
 }
 
-// Ray/triangle (Moller-Trumbore). Returns (t, u, v); t < 0 on a miss.
-fn ray_triangle(ro: vec3f, rd: vec3f, p0: vec3f, p1: vec3f, p2: vec3f) -> vec3f {
-    let e1 = p1 - p0;
-    let e2 = p2 - p0;
-    let pv = cross(rd, e2);
-    let det = dot(e1, pv);
-    if abs(det) < 1e-20 {
-        return vec3f(-1.0, 0.0, 0.0);
-    }
-    let inv = 1.0 / det;
-    let tv = ro - p0;
-    let u = dot(tv, pv) * inv;
-    if u < 0.0 || u > 1.0 {
-        return vec3f(-1.0, 0.0, 0.0);
-    }
-    let qv = cross(tv, e1);
-    let v = dot(rd, qv) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return vec3f(-1.0, 0.0, 0.0);
-    }
-    return vec3f(dot(e2, qv) * inv, u, v);
+// The traversal stack: (node, entry distance bits). Module-scope private
+// memory is zero-initialised once per invocation, not once per call.
+var<private> stack: array<vec2u, STACK_SIZE>;
+
+struct Closest {
+    t: f32,
+    prim: u32,
+    uv: vec2f,
 }
 
-fn safe_inverse(d: vec3f) -> vec3f {
-    let tiny = 1e-30;
-    return 1.0 / select(d, vec3f(tiny), abs(d) < vec3f(tiny));
+fn closer(t: f32, prim: u32, best: Closest) -> bool {
+    return t < best.t || (t == best.t && prim < best.prim);
 }
 
-// The closest hit along a unit-length ray in (0, tmax).
-fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
-    var best = no_hit(tmax);
-    var best_tri = NO_HIT;
-    var best_uv = vec2f(0.0);
-    for (var i = 0u; i < frame.n_spheres; i++) {
-        let s = scene_spheres[i];
-        let t = ray_sphere(ro, rd, s.center, s.radius, 0.0, best.t);
-        if t > 0.0 {
-            let n = (ro + t * rd - s.center) / s.radius;
-            best = Hit(t, n, n, s.material, s.object, s.light);
-        }
+// Traverses the BVH. any_hit: stop at the first hit (shadow rays).
+fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
+    var best = Closest(tmax, NO_HIT, vec2f(0.0));
+    let root = scene_bvh[0];
+    let t_root = hit_box(r, root.bmin, root.bmax, tmax);
+    if t_root < 0.0 {
+        return best;
     }
-    let inv_rd = safe_inverse(rd);
-    for (var m = 0u; m < frame.n_meshes; m++) {
-        let mesh = scene_meshes[m];
-        if !ray_box(ro, inv_rd, mesh.bmin, mesh.bmax, best.t) {
+    stack[0] = vec2u(0u, bitcast<u32>(t_root));
+    var sp = 1u;
+    for (var steps = 0u; sp > 0u && steps < MAX_STEPS; steps++) {
+        sp -= 1u;
+        let top = stack[sp];
+        if bitcast<f32>(top.y) > best.t {
             continue;
         }
-        for (var k = 0u; k < mesh.count; k++) {
-            let tri = scene_triangles[mesh.first + k];
-            let r = ray_triangle(ro, rd, tri.p0, tri.p1, tri.p2);
-            if r.x > 0.0 && r.x < best.t {
-                best.t = r.x;
-                best_tri = mesh.first + k;
-                best_uv = r.yz;
-                best.object = tri.object;
+        let node = scene_bvh[top.x];
+        if (node.count & TLAS_LEAF) != 0u {
+            let end = node.left_first + (node.count & ~TLAS_LEAF);
+            for (var k = node.left_first; k < end; k++) {
+                let inst = scene_instances[k];
+                if inst.kind == INSTANCE_MESH {
+                    let blas = scene_bvh[inst.index];
+                    let tb = hit_box(r, blas.bmin, blas.bmax, best.t);
+                    if tb >= 0.0 && sp < STACK_SIZE {
+                        stack[sp] = vec2u(inst.index, bitcast<u32>(tb));
+                        sp += 1u;
+                    }
+                } else {
+                    let s = scene_spheres[inst.index];
+                    let t = ray_sphere(r.o, r.d, s.center, s.radius, 0.0, next_up(best.t));
+                    let prim = inst.index | SPHERE_BIT;
+                    if t > 0.0 && t < tmax && closer(t, prim, best) {
+                        best = Closest(t, prim, vec2f(0.0));
+                        if any_hit {
+                            return best;
+                        }
+                    }
+                }
+            }
+        } else if node.count > 0u {
+            for (var i = node.left_first; i < node.left_first + node.count; i++) {
+                let tri = scene_triangles[i];
+                let h = hit_triangle(r, tri.p0, tri.p1, tri.p2, next_up(best.t));
+                if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
+                    best = Closest(h.x, i, h.yz);
+                    if any_hit {
+                        return best;
+                    }
+                }
+            }
+        } else {
+            let a = node.left_first;
+            let na = scene_bvh[a];
+            let nb = scene_bvh[a + 1u];
+            let ta = hit_box(r, na.bmin, na.bmax, best.t);
+            let tb = hit_box(r, nb.bmin, nb.bmax, best.t);
+            // Push the farther first so the nearer is visited first.
+            var first = a;
+            var second = a + 1u;
+            var t_first = ta;
+            var t_second = tb;
+            if tb >= 0.0 && (ta < 0.0 || tb < ta) {
+                first = a + 1u;
+                second = a;
+                t_first = tb;
+                t_second = ta;
+            }
+            if t_second >= 0.0 && sp < STACK_SIZE {
+                stack[sp] = vec2u(second, bitcast<u32>(t_second));
+                sp += 1u;
+            }
+            if t_first >= 0.0 && sp < STACK_SIZE {
+                stack[sp] = vec2u(first, bitcast<u32>(t_first));
+                sp += 1u;
             }
         }
-    }
-    if best_tri != NO_HIT {
-        let tri = scene_triangles[best_tri];
-        let gn = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
-        var sn = (1.0 - best_uv.x - best_uv.y) * tri.n0 + best_uv.x * tri.n1 + best_uv.y * tri.n2;
-        sn = select(gn, normalize(sn), dot(sn, sn) > 1e-12);
-        best = Hit(best.t, gn, sn, tri.material, tri.object, -1);
     }
     return best;
 }
 
+// The closest hit along a unit-length ray in (0, tmax).
+fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
+    let c = traverse(make_ray(ro, rd), tmax, false);
+    if c.prim == NO_HIT {
+        return no_hit(tmax);
+    }
+    if (c.prim & SPHERE_BIT) != 0u {
+        let s = scene_spheres[c.prim & ~SPHERE_BIT];
+        let n = (ro + c.t * rd - s.center) / s.radius;
+        return Hit(c.t, n, n, s.material, s.object, s.light);
+    }
+    let tri = scene_triangles[c.prim];
+    let gn = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+    var sn = (1.0 - c.uv.x - c.uv.y) * tri.n0 + c.uv.x * tri.n1 + c.uv.y * tri.n2;
+    sn = select(gn, normalize(sn), dot(sn, sn) > 1e-12);
+    return Hit(c.t, gn, sn, tri.material, tri.object, -1);
+}
+
 // Whether anything blocks the ray in (0, tmax) (shadow rays; exits early).
 fn trace_any(ro: vec3f, rd: vec3f, tmax: f32) -> bool {
-    for (var i = 0u; i < frame.n_spheres; i++) {
-        let s = scene_spheres[i];
-        if ray_sphere(ro, rd, s.center, s.radius, 0.0, tmax) > 0.0 {
-            return true;
-        }
-    }
-    let inv_rd = safe_inverse(rd);
-    for (var m = 0u; m < frame.n_meshes; m++) {
-        let mesh = scene_meshes[m];
-        if !ray_box(ro, inv_rd, mesh.bmin, mesh.bmax, tmax) {
-            continue;
-        }
-        for (var k = 0u; k < mesh.count; k++) {
-            let tri = scene_triangles[mesh.first + k];
-            let r = ray_triangle(ro, rd, tri.p0, tri.p1, tri.p2);
-            if r.x > 0.0 && r.x < tmax {
-                return true;
-            }
-        }
-    }
-    return false;
+    return traverse(make_ray(ro, rd), tmax, true).prim != NO_HIT;
 }
 
 // Moves a surface point off the surface along the geometric normal `n`

@@ -62,7 +62,7 @@ pub struct FrameGpu {
     pub seed: u32,
     pub scene_epoch: u32,
     pub n_spheres: u32,
-    pub n_meshes: u32,
+    pub n_instances: u32,
     pub n_triangles: u32,
     pub n_lights: u32,
     pub _pad0: u32,

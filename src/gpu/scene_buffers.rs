@@ -14,6 +14,8 @@ pub struct SceneBuffers {
     pub meshes: wgpu::Buffer,
     pub materials: wgpu::Buffer,
     pub lights: wgpu::Buffer,
+    pub bvh: wgpu::Buffer,
+    pub instances: wgpu::Buffer,
     pub data: SceneData,
     /// Bumped whenever anything visible changed.
     pub epoch: u32,
@@ -38,6 +40,8 @@ impl SceneBuffers {
             meshes: storage(device, "scene_meshes", &data.meshes),
             materials: storage(device, "scene_materials", &data.materials),
             lights: storage(device, "scene_lights", &data.lights),
+            bvh: storage(device, "scene_bvh", &data.bvh),
+            instances: storage(device, "scene_instances", &data.instances),
             data,
             epoch: 0,
         }
@@ -58,6 +62,8 @@ impl SceneBuffers {
         write(queue, &self.meshes, &self.data.meshes, &data.meshes, &mut changed);
         write(queue, &self.materials, &self.data.materials, &data.materials, &mut changed);
         write(queue, &self.lights, &self.data.lights, &data.lights, &mut changed);
+        write(queue, &self.bvh, &self.data.bvh, &data.bvh, &mut changed);
+        write(queue, &self.instances, &self.data.instances, &data.instances, &mut changed);
         changed |= self.data.background != data.background;
         if changed {
             self.epoch = self.epoch.wrapping_add(1);
@@ -74,6 +80,8 @@ impl SceneBuffers {
             EngineResource::Meshes => Some(&self.meshes),
             EngineResource::Materials => Some(&self.materials),
             EngineResource::Lights => Some(&self.lights),
+            EngineResource::Bvh => Some(&self.bvh),
+            EngineResource::Instances => Some(&self.instances),
         }
     }
 }

@@ -15,16 +15,21 @@ pub enum EngineResource {
     Meshes,
     Materials,
     Lights,
+    /// The two-level BVH nodes and the TLAS instances.
+    Bvh,
+    Instances,
 }
 
 impl EngineResource {
-    pub const ALL: [EngineResource; 6] = [
+    pub const ALL: [EngineResource; 8] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Triangles,
         EngineResource::Meshes,
         EngineResource::Materials,
         EngineResource::Lights,
+        EngineResource::Bvh,
+        EngineResource::Instances,
     ];
 
     pub fn name(self) -> &'static str {
@@ -35,6 +40,8 @@ impl EngineResource {
             EngineResource::Meshes => "scene_meshes",
             EngineResource::Materials => "scene_materials",
             EngineResource::Lights => "scene_lights",
+            EngineResource::Bvh => "scene_bvh",
+            EngineResource::Instances => "scene_instances",
         }
     }
 

@@ -80,4 +80,7 @@ pub struct SceneData {
     pub materials: Vec<MaterialGpu>,
     pub lights: Vec<LightGpu>,
     pub background: [f32; 3],
+    /// The two-level BVH (filled by `bvh::scene::SceneBvh::update`).
+    pub bvh: Vec<crate::bvh::BvhNode>,
+    pub instances: Vec<crate::bvh::scene::InstanceGpu>,
 }

@@ -111,6 +111,7 @@ impl Scene {
             materials: self.materials.clone(),
             lights: lights.into_iter().map(|l| l.2).collect(),
             background: self.background.into(),
+            ..Default::default()
         }
     }
 

@@ -1,0 +1,360 @@
+//! Binned SAH builder (Wald 2007): at each node the primitives' centroids
+//! are binned along all three axes, the cheapest plane by the surface area
+//! heuristic is taken, and a node becomes a leaf when splitting costs more
+//! than intersecting its primitives (at most `MAX_LEAF` of them).
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::Aabb;
+
+/// Leaves hold at most this many primitives.
+pub const MAX_LEAF: usize = 4;
+const BINS: usize = 12;
+/// Cost of one traversal step relative to one primitive test.
+const TRAVERSAL_COST: f32 = 1.0;
+
+/// `struct BvhNode` in shaders/shared/bvh.wgsl (32 bytes). Interior nodes
+/// have `count == 0` and children at `left_first` and `left_first + 1`;
+/// leaves hold primitives `left_first .. left_first + count`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct BvhNode {
+    pub bmin: [f32; 3],
+    pub left_first: u32,
+    pub bmax: [f32; 3],
+    pub count: u32,
+}
+
+impl BvhNode {
+    pub fn bounds(&self) -> Aabb {
+        Aabb { min: Vec3::from(self.bmin), max: Vec3::from(self.bmax) }
+    }
+    fn set_bounds(&mut self, b: &Aabb) {
+        self.bmin = b.min.to_array();
+        self.bmax = b.max.to_array();
+    }
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+}
+
+/// A BVH over primitives `0..n`: `order[i]` is the primitive stored at
+/// position i (leaves index into `order`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Bvh {
+    pub nodes: Vec<BvhNode>,
+    pub order: Vec<u32>,
+}
+
+#[derive(Clone, Copy)]
+struct Bin {
+    bounds: Aabb,
+    centroids: Aabb,
+    count: u32,
+}
+
+impl Default for Bin {
+    fn default() -> Self {
+        Bin { bounds: Aabb::EMPTY, centroids: Aabb::EMPTY, count: 0 }
+    }
+}
+
+struct Task {
+    node: usize,
+    start: usize,
+    end: usize,
+    centroids: Aabb,
+}
+
+/// Builds a BVH over primitives given their bounds and centroids.
+/// Primitives with non-finite bounds are kept but never split on.
+pub fn build(bounds: &[Aabb], centroids: &[Vec3]) -> Bvh {
+    let n = bounds.len();
+    let mut order: Vec<u32> = (0..n as u32).collect();
+    let mut nodes = Vec::with_capacity((2 * n / MAX_LEAF).max(1) + 1);
+    let mut root_bounds = Aabb::EMPTY;
+    let mut root_centroids = Aabb::EMPTY;
+    for i in 0..n {
+        root_bounds.union(&bounds[i]);
+        root_centroids.grow(centroids[i]);
+    }
+    let mut root = BvhNode::zeroed();
+    root.set_bounds(&root_bounds);
+    root.count = n as u32;
+    nodes.push(root);
+    if n == 0 {
+        return Bvh { nodes, order };
+    }
+    let mut stack = vec![Task { node: 0, start: 0, end: n, centroids: root_centroids }];
+    while let Some(task) = stack.pop() {
+        let count = task.end - task.start;
+        let node_area = nodes[task.node].bounds().half_area();
+        let split = if count > 1 { best_split(bounds, centroids, &order[task.start..task.end], &task.centroids) } else { None };
+        let leaf_cost = count as f32;
+        let split = match split {
+            Some(s) if node_area > 0.0 && TRAVERSAL_COST + s.cost / node_area < leaf_cost => Some(s),
+            Some(s) if count > MAX_LEAF => Some(s),
+            _ if count > MAX_LEAF => Some(Split::middle()),
+            _ => None,
+        };
+        let Some(split) = split else {
+            nodes[task.node].left_first = task.start as u32;
+            nodes[task.node].count = count as u32;
+            continue;
+        };
+        // Partition by the chosen bin; a degenerate result (all on one side,
+        // possible with NaN centroids) falls back to the middle.
+        let (mid, from_bins) = match split.plane {
+            Some((axis, scale, bin)) => {
+                let cmin = task.centroids.min[axis];
+                let m = task.start
+                    + partition(&mut order[task.start..task.end], |p| bin_of(centroids[p as usize][axis], cmin, scale) < bin);
+                if m == task.start || m == task.end { (task.start + count / 2, false) } else { (m, true) }
+            }
+            None => (task.start + count / 2, false),
+        };
+        let (lb, lc, rb, rc) = if from_bins {
+            (split.left, split.left_centroids, split.right, split.right_centroids)
+        } else {
+            let side = |r: &[u32]| {
+                let (mut b, mut c) = (Aabb::EMPTY, Aabb::EMPTY);
+                for &p in r {
+                    b.union(&bounds[p as usize]);
+                    c.grow(centroids[p as usize]);
+                }
+                (b, c)
+            };
+            let (lb, lc) = side(&order[task.start..mid]);
+            let (rb, rc) = side(&order[mid..task.end]);
+            (lb, lc, rb, rc)
+        };
+        let left = nodes.len();
+        let mut l = BvhNode::zeroed();
+        l.set_bounds(&lb);
+        let mut r = BvhNode::zeroed();
+        r.set_bounds(&rb);
+        nodes.push(l);
+        nodes.push(r);
+        nodes[task.node].left_first = left as u32;
+        nodes[task.node].count = 0;
+        stack.push(Task { node: left + 1, start: mid, end: task.end, centroids: rc });
+        stack.push(Task { node: left, start: task.start, end: mid, centroids: lc });
+    }
+    Bvh { nodes, order }
+}
+
+struct Split {
+    cost: f32,
+    /// (axis, bin scale, first bin of the right side); None: split in the middle.
+    plane: Option<(usize, f32, usize)>,
+    left: Aabb,
+    right: Aabb,
+    left_centroids: Aabb,
+    right_centroids: Aabb,
+}
+
+impl Split {
+    fn middle() -> Split {
+        Split {
+            cost: f32::INFINITY,
+            plane: None,
+            left: Aabb::EMPTY,
+            right: Aabb::EMPTY,
+            left_centroids: Aabb::EMPTY,
+            right_centroids: Aabb::EMPTY,
+        }
+    }
+}
+
+#[inline]
+fn bin_of(c: f32, cmin: f32, scale: f32) -> usize {
+    let b = ((c - cmin) * scale) as isize; // NaN -> 0
+    b.clamp(0, BINS as isize - 1) as usize
+}
+
+fn best_split(bounds: &[Aabb], centroids: &[Vec3], prims: &[u32], cb: &Aabb) -> Option<Split> {
+    let extent = cb.max - cb.min;
+    let mut scales = [0.0f32; 3];
+    for a in 0..3 {
+        if extent[a] > 0.0 && extent[a].is_finite() {
+            scales[a] = BINS as f32 * (1.0 - 1e-6) / extent[a];
+        }
+    }
+    if scales == [0.0; 3] {
+        return None;
+    }
+    let mut bins = [[Bin::default(); BINS]; 3];
+    for &p in prims {
+        let c = centroids[p as usize];
+        let b = &bounds[p as usize];
+        for a in 0..3 {
+            if scales[a] == 0.0 {
+                continue;
+            }
+            let bin = &mut bins[a][bin_of(c[a], cb.min[a], scales[a])];
+            bin.bounds.union(b);
+            bin.centroids.grow(c);
+            bin.count += 1;
+        }
+    }
+    let mut best: Option<Split> = None;
+    for a in 0..3 {
+        if scales[a] == 0.0 {
+            continue;
+        }
+        // Right-to-left sweep: areas and counts of the right sides.
+        let mut right_area = [0.0f32; BINS];
+        let mut right_count = [0u32; BINS];
+        let mut acc = Aabb::EMPTY;
+        let mut n = 0;
+        for i in (1..BINS).rev() {
+            acc.union(&bins[a][i].bounds);
+            n += bins[a][i].count;
+            right_area[i] = acc.half_area();
+            right_count[i] = n;
+        }
+        let mut left = Aabb::EMPTY;
+        let mut nl = 0;
+        for i in 1..BINS {
+            left.union(&bins[a][i - 1].bounds);
+            nl += bins[a][i - 1].count;
+            if nl == 0 || right_count[i] == 0 {
+                continue;
+            }
+            let cost = left.half_area() * nl as f32 + right_area[i] * right_count[i] as f32;
+            if best.as_ref().is_none_or(|b| cost < b.cost) {
+                best = Some(Split {
+                    cost,
+                    plane: Some((a, scales[a], i)),
+                    left: Aabb::EMPTY,
+                    right: Aabb::EMPTY,
+                    left_centroids: Aabb::EMPTY,
+                    right_centroids: Aabb::EMPTY,
+                });
+            }
+        }
+    }
+    let mut best = best?;
+    if let Some((a, _, split_bin)) = best.plane {
+        for (i, bin) in bins[a].iter().enumerate() {
+            let (b, c) = if i < split_bin { (&mut best.left, &mut best.left_centroids) } else { (&mut best.right, &mut best.right_centroids) };
+            b.union(&bin.bounds);
+            c.union(&bin.centroids);
+        }
+    }
+    Some(best)
+}
+
+/// In-place partition; returns how many elements satisfy `left`.
+fn partition(v: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
+    let mut i = 0;
+    let mut j = v.len();
+    while i < j {
+        if left(v[i]) {
+            i += 1;
+        } else {
+            j -= 1;
+            v.swap(i, j);
+        }
+    }
+    i
+}
+
+/// Recomputes node bounds bottom-up after primitives moved (same topology).
+/// `bounds[i]` is the bound of primitive i (original numbering).
+pub fn refit(bvh: &mut Bvh, bounds: &[Aabb]) {
+    for i in (0..bvh.nodes.len()).rev() {
+        let node = bvh.nodes[i];
+        let mut b = Aabb::EMPTY;
+        if node.is_leaf() {
+            for k in node.left_first..node.left_first + node.count {
+                b.union(&bounds[bvh.order[k as usize] as usize]);
+            }
+        } else if node.left_first != 0 {
+            b = bvh.nodes[node.left_first as usize].bounds();
+            b.union(&bvh.nodes[node.left_first as usize + 1].bounds());
+        }
+        bvh.nodes[i].set_bounds(&b);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn random_boxes(n: usize, seed: u32) -> (Vec<Aabb>, Vec<Vec3>) {
+        let mut s = seed;
+        let mut r = move || {
+            s = s.wrapping_mul(1664525).wrapping_add(1013904223);
+            (s >> 8) as f32 / 16777216.0
+        };
+        let mut bounds = Vec::new();
+        let mut cs = Vec::new();
+        for _ in 0..n {
+            let c = Vec3::new(r(), r(), r()) * 10.0;
+            let h = Vec3::new(r(), r(), r()) * 0.2;
+            bounds.push(Aabb { min: c - h, max: c + h });
+            cs.push(c);
+        }
+        (bounds, cs)
+    }
+
+    fn check(bvh: &Bvh, bounds: &[Aabb]) {
+        let mut seen = vec![false; bounds.len()];
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            let node = bvh.nodes[i];
+            let nb = node.bounds();
+            if node.is_leaf() {
+                assert!(node.count as usize <= MAX_LEAF.max(1) || bounds.len() <= MAX_LEAF);
+                for k in node.left_first..node.left_first + node.count {
+                    let p = bvh.order[k as usize] as usize;
+                    assert!(!seen[p], "primitive {p} twice");
+                    seen[p] = true;
+                    let b = bounds[p];
+                    assert!(nb.min.cmple(b.min).all() && nb.max.cmpge(b.max).all(), "leaf does not contain its primitive");
+                }
+            } else {
+                for c in [node.left_first as usize, node.left_first as usize + 1] {
+                    let cb = bvh.nodes[c].bounds();
+                    assert!(nb.min.cmple(cb.min).all() && nb.max.cmpge(cb.max).all(), "child outside parent");
+                    stack.push(c);
+                }
+            }
+        }
+        assert!(seen.iter().all(|s| *s), "a primitive is missing");
+    }
+
+    #[test]
+    fn builds_valid_trees() {
+        for n in [0, 1, 2, 3, 5, 17, 100, 5000] {
+            let (b, c) = random_boxes(n, n as u32 + 7);
+            let bvh = build(&b, &c);
+            if n > 0 {
+                check(&bvh, &b);
+            }
+        }
+    }
+
+    #[test]
+    fn identical_centroids_still_split_into_small_leaves() {
+        let b = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 100];
+        let c = vec![Vec3::splat(0.5); 100];
+        let bvh = build(&b, &c);
+        check(&bvh, &b);
+        assert!(bvh.nodes.iter().all(|n| n.count as usize <= MAX_LEAF));
+    }
+
+    #[test]
+    fn refit_follows_moved_primitives() {
+        let (mut b, c) = random_boxes(300, 3);
+        let mut bvh = build(&b, &c);
+        for bb in &mut b {
+            bb.min += Vec3::new(5.0, 0.0, 0.0);
+            bb.max += Vec3::new(5.0, 0.0, 0.0);
+        }
+        refit(&mut bvh, &b);
+        check(&bvh, &b);
+    }
+}

@@ -1,0 +1,12 @@
+//! Acceleration (DESIGN.md section 6): a binned-SAH BVH per mesh (BLAS)
+//! built on the CPU, a TLAS over instances (meshes, spheres, light spheres),
+//! the flattened GPU layout, and a Rust mirror of the WGSL ray math and
+//! traversal for exhaustive CPU tests.
+
+pub mod aabb;
+pub mod build;
+pub mod ray;
+pub mod scene;
+
+pub use aabb::Aabb;
+pub use build::{build, refit, Bvh, BvhNode, MAX_LEAF};

@@ -1,0 +1,290 @@
+//! The Rust mirror of shaders/shared/intersect.wgsl and bvh.wgsl: the same
+//! ray math and traversal in f32, so it can be tested exhaustively on the
+//! CPU (the GPU path is tested too, in tests/).
+
+use glam::Vec3;
+
+use super::scene::{InstanceGpu, INSTANCE_MESH, TLAS_LEAF};
+use super::BvhNode;
+use crate::scene::{SphereGpu, TriangleGpu};
+
+/// 1 + 2 gamma(3): Ize's bound on the slab test's rounding (PBRT 3.9.2).
+pub const IZE_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+/// Private traversal stack depth (as in WGSL).
+pub const STACK: usize = 64;
+/// Sphere primitives are numbered after this bit, triangles below it.
+pub const SPHERE_BIT: u32 = 0x8000_0000;
+
+/// A ray with what the watertight test precomputes (Woop et al. 2013).
+#[derive(Debug, Clone, Copy)]
+pub struct Ray {
+    pub o: Vec3,
+    pub d: Vec3,
+    pub inv: Vec3,
+    k: [usize; 3],
+    s: Vec3,
+}
+
+/// 1/d with tiny components replaced by +-1e30 (keeps 0 * inf out of the
+/// slab test; the sign of zero is kept).
+pub fn safe_inverse(d: Vec3) -> Vec3 {
+    let f = |x: f32| if x.abs() < 1e-30 { 1e30f32.copysign(x) } else { 1.0 / x };
+    Vec3::new(f(d.x), f(d.y), f(d.z))
+}
+
+impl Ray {
+    pub fn new(o: Vec3, d: Vec3) -> Ray {
+        let a = d.abs();
+        let kz = if a.x > a.y { if a.x > a.z { 0 } else { 2 } } else if a.y > a.z { 1 } else { 2 };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let s = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+        Ray { o, d, inv: safe_inverse(d), k: [kx, ky, kz], s }
+    }
+}
+
+/// Watertight ray/triangle: returns (t, b1, b2) with t in (0, tmax).
+/// Edges are inclusive, so a ray through a shared edge hits a triangle.
+pub fn hit_triangle(r: &Ray, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<(f32, f32, f32)> {
+    let [kx, ky, kz] = r.k;
+    let a = p0 - r.o;
+    let b = p1 - r.o;
+    let c = p2 - r.o;
+    let ax = a[kx] - r.s.x * a[kz];
+    let ay = a[ky] - r.s.y * a[kz];
+    let bx = b[kx] - r.s.x * b[kz];
+    let by = b[ky] - r.s.y * b[kz];
+    let cx = c[kx] - r.s.x * c[kz];
+    let cy = c[ky] - r.s.y * c[kz];
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 || det.is_nan() {
+        return None;
+    }
+    let az = r.s.z * a[kz];
+    let bz = r.s.z * b[kz];
+    let cz = r.s.z * c[kz];
+    let t = u * az + v * bz + w * cz;
+    let outside = if det < 0.0 { t >= 0.0 || t < tmax * det } else { t <= 0.0 || t > tmax * det };
+    if outside {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let t = t * inv;
+    if !(t > 0.0 && t < tmax) {
+        return None;
+    }
+    Some((t, v * inv, w * inv))
+}
+
+/// Ray/sphere with the precision fix of Ray Tracing Gems ch. 7 (`d` unit
+/// length): nearest t in (tmin, tmax).
+pub fn hit_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32, tmin: f32, tmax: f32) -> Option<f32> {
+    let f = o - center;
+    let b = -f.dot(d);
+    let l = f + b * d;
+    let disc = radius * radius - l.dot(l);
+    if disc.is_nan() || disc < 0.0 {
+        return None;
+    }
+    let c = f.dot(f) - radius * radius;
+    let q = b + if b >= 0.0 { 1.0 } else { -1.0 } * disc.sqrt();
+    let (mut t0, mut t1) = (if q == 0.0 { 0.0 } else { c / q }, q);
+    if t0 > t1 {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    if t0 > tmin && t0 < tmax {
+        return Some(t0);
+    }
+    if t1 > tmin && t1 < tmax {
+        return Some(t1);
+    }
+    None
+}
+
+/// Slab test with Ize's conservative far bound; the entry distance if the
+/// box is entered in [0, tmax].
+pub fn hit_box(r: &Ray, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
+    let t0 = (bmin - r.o) * r.inv;
+    let t1 = (bmax - r.o) * r.inv;
+    let near = t0.min(t1).max_element().max(0.0);
+    let far = t0.max(t1).min_element().min(tmax) * IZE_SCALE;
+    (near <= far).then_some(near)
+}
+
+/// Read-only view of the scene geometry, as on the GPU.
+pub struct Geometry<'a> {
+    pub spheres: &'a [SphereGpu],
+    pub triangles: &'a [TriangleGpu],
+    pub nodes: &'a [BvhNode],
+    pub instances: &'a [InstanceGpu],
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    /// Triangle index, or sphere index | SPHERE_BIT.
+    pub prim: u32,
+}
+
+fn closer(t: f32, prim: u32, best: &Option<Hit>, tmax: f32) -> bool {
+    match best {
+        None => t < tmax,
+        // Ties go to the lower primitive id, so order never matters.
+        Some(b) => t < b.t || (t == b.t && prim < b.prim),
+    }
+}
+
+impl Geometry<'_> {
+    fn test_sphere(&self, r: &Ray, i: u32, best: &mut Option<Hit>, tmax: f32) {
+        let s = &self.spheres[i as usize];
+        let limit = best.map_or(tmax, |b| b.t).min(tmax);
+        // Accept t == limit too, for the tie rule.
+        if let Some(t) = hit_sphere(r.o, r.d, Vec3::from(s.center), s.radius, 0.0, next_up(limit)) {
+            if closer(t, i | SPHERE_BIT, best, tmax) {
+                *best = Some(Hit { t, prim: i | SPHERE_BIT });
+            }
+        }
+    }
+
+    fn test_triangle(&self, r: &Ray, i: u32, best: &mut Option<Hit>, tmax: f32) {
+        let tri = &self.triangles[i as usize];
+        let limit = best.map_or(tmax, |b| b.t).min(tmax);
+        if let Some((t, _, _)) = hit_triangle(r, Vec3::from(tri.p0), Vec3::from(tri.p1), Vec3::from(tri.p2), next_up(limit)) {
+            if closer(t, i, best, tmax) {
+                *best = Some(Hit { t, prim: i });
+            }
+        }
+    }
+
+    /// Closest hit by testing everything (the reference).
+    pub fn closest_brute(&self, r: &Ray, tmax: f32) -> Option<Hit> {
+        let mut best = None;
+        for i in 0..self.spheres.len() as u32 {
+            self.test_sphere(r, i, &mut best, tmax);
+        }
+        for i in 0..self.triangles.len() as u32 {
+            self.test_triangle(r, i, &mut best, tmax);
+        }
+        best
+    }
+
+    /// Closest hit through the TLAS and BLASes.
+    pub fn closest(&self, r: &Ray, tmax: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.traverse(r, tmax, |g, kind, i, best_ref| {
+            if kind == 0 {
+                g.test_sphere(r, i, best_ref, tmax);
+            } else {
+                g.test_triangle(r, i, best_ref, tmax);
+            }
+            false
+        }, &mut best);
+        best
+    }
+
+    /// Whether anything is hit in (0, tmax) (shadow rays; stops at the first).
+    pub fn any(&self, r: &Ray, tmax: f32) -> bool {
+        let mut best: Option<Hit> = None;
+        self.traverse(r, tmax, |g, kind, i, best_ref| {
+            if kind == 0 {
+                g.test_sphere(r, i, best_ref, tmax);
+            } else {
+                g.test_triangle(r, i, best_ref, tmax);
+            }
+            best_ref.is_some()
+        }, &mut best);
+        best.is_some()
+    }
+
+    /// Stack traversal, nearer child first. `visit(kind, index)` tests a
+    /// sphere (kind 0) or triangle (kind 1) and returns true to stop.
+    fn traverse(
+        &self,
+        r: &Ray,
+        tmax: f32,
+        mut visit: impl FnMut(&Self, u32, u32, &mut Option<Hit>) -> bool,
+        best: &mut Option<Hit>,
+    ) {
+        let Some(root) = self.nodes.first() else { return };
+        let Some(t_root) = hit_box(r, root.bounds().min, root.bounds().max, tmax) else { return };
+        let mut stack = [(0u32, 0.0f32); STACK];
+        stack[0] = (0, t_root);
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let (index, t_near) = stack[sp];
+            let limit = best.map_or(tmax, |b| b.t).min(tmax);
+            if t_near > limit {
+                continue;
+            }
+            let node = self.nodes[index as usize];
+            if node.count & TLAS_LEAF != 0 {
+                for k in node.left_first..node.left_first + (node.count & !TLAS_LEAF) {
+                    let inst = self.instances[k as usize];
+                    if inst.kind == INSTANCE_MESH {
+                        let root = self.nodes[inst.index as usize];
+                        if let Some(t) = hit_box(r, root.bounds().min, root.bounds().max, limit) {
+                            if sp < STACK {
+                                stack[sp] = (inst.index, t);
+                                sp += 1;
+                            }
+                        }
+                    } else if visit(self, 0, inst.index, best) {
+                        return;
+                    }
+                }
+            } else if node.count > 0 {
+                for i in node.left_first..node.left_first + node.count {
+                    if visit(self, 1, i, best) {
+                        return;
+                    }
+                }
+            } else {
+                let (a, b) = (node.left_first, node.left_first + 1);
+                let ta = hit_box(r, self.nodes[a as usize].bounds().min, self.nodes[a as usize].bounds().max, limit);
+                let tb = hit_box(r, self.nodes[b as usize].bounds().min, self.nodes[b as usize].bounds().max, limit);
+                let mut push = |n: u32, t: f32| {
+                    if sp < STACK {
+                        stack[sp] = (n, t);
+                        sp += 1;
+                    }
+                };
+                match (ta, tb) {
+                    (Some(ta), Some(tb)) if ta <= tb => {
+                        push(b, tb);
+                        push(a, ta);
+                    }
+                    (Some(ta), Some(tb)) => {
+                        push(a, ta);
+                        push(b, tb);
+                    }
+                    (Some(ta), None) => push(a, ta),
+                    (None, Some(tb)) => push(b, tb),
+                    (None, None) => {}
+                }
+            }
+        }
+    }
+}
+
+/// The next f32 above x (x finite); used so a hit at exactly the current
+/// best distance is still reported and the tie rule can decide.
+pub fn next_up(x: f32) -> f32 {
+    if x.is_nan() || x == f32::INFINITY {
+        return x;
+    }
+    if x == 0.0 {
+        return f32::from_bits(1);
+    }
+    let bits = x.to_bits();
+    f32::from_bits(if x > 0.0 { bits + 1 } else { bits - 1 })
+}

@@ -1,0 +1,154 @@
+//! The scene's two-level BVH in one node array: the TLAS first (root at 0),
+//! then one BLAS per mesh over its world-space triangles. TLAS leaves carry
+//! `TLAS_LEAF` in `count` and index `instances`; a mesh instance points at
+//! its BLAS root, a sphere instance at the sphere.
+//!
+//! BLASes are cached between frames: a mesh whose triangles did not change
+//! keeps its tree, one whose vertices moved is refitted, and the TLAS (a few
+//! boxes) is rebuilt whenever anything moved.
+
+use std::time::Instant;
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::{build, refit, Aabb, Bvh, BvhNode};
+use crate::scene::{SceneData, TriangleGpu};
+
+pub const TLAS_LEAF: u32 = 0x8000_0000;
+pub const INSTANCE_SPHERE: u32 = 0;
+pub const INSTANCE_MESH: u32 = 1;
+
+/// `struct Instance` in shaders/shared/bvh.wgsl (16 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct InstanceGpu {
+    pub kind: u32,
+    /// Sphere index, or the node index of the mesh's BLAS root.
+    pub index: u32,
+    pub _pad: [u32; 2],
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BuildStats {
+    pub triangles: usize,
+    /// Triangles in BLASes built (not reused or refitted) this update.
+    pub built_triangles: usize,
+    pub blas_ms: f64,
+    pub tlas_ms: f64,
+}
+
+impl BuildStats {
+    /// Millions of triangles built per second.
+    pub fn mtri_per_s(&self) -> f64 {
+        if self.blas_ms <= 0.0 { 0.0 } else { self.built_triangles as f64 / (self.blas_ms * 1e3) }
+    }
+}
+
+/// One mesh's BLAS and the (world-space, unordered) triangles it was built for.
+struct CachedBlas {
+    input: Vec<TriangleGpu>,
+    bvh: Bvh,
+}
+
+#[derive(Default)]
+pub struct SceneBvh {
+    cache: Vec<Option<CachedBlas>>,
+}
+
+fn tri_bounds(t: &TriangleGpu) -> Aabb {
+    Aabb::of_points(&[Vec3::from(t.p0), Vec3::from(t.p1), Vec3::from(t.p2)])
+}
+
+impl SceneBvh {
+    /// Fills `data.bvh` and `data.instances` and reorders each mesh's
+    /// triangles into BLAS leaf order.
+    pub fn update(&mut self, data: &mut SceneData) -> BuildStats {
+        let mut stats = BuildStats { triangles: data.triangles.len(), ..Default::default() };
+        let blas_start = Instant::now();
+        self.cache.resize_with(data.meshes.len(), || None);
+        let mut blas_nodes: Vec<Vec<BvhNode>> = Vec::with_capacity(data.meshes.len());
+        for (m, mesh) in data.meshes.iter().enumerate() {
+            let range = mesh.first as usize..(mesh.first + mesh.count) as usize;
+            let input = &data.triangles[range.clone()];
+            let entry = &mut self.cache[m];
+            match entry {
+                Some(c) if c.input == input => {}
+                Some(c) if c.input.len() == input.len() => {
+                    let bounds: Vec<Aabb> = input.iter().map(tri_bounds).collect();
+                    refit(&mut c.bvh, &bounds);
+                    c.input.copy_from_slice(input);
+                }
+                _ => {
+                    let bounds: Vec<Aabb> = input.iter().map(tri_bounds).collect();
+                    let centroids: Vec<Vec3> = bounds.iter().map(Aabb::center).collect();
+                    stats.built_triangles += input.len();
+                    *entry = Some(CachedBlas { input: input.to_vec(), bvh: build(&bounds, &centroids) });
+                }
+            }
+            let Some(c) = entry.as_ref() else { continue };
+            for (k, &p) in c.bvh.order.iter().enumerate() {
+                data.triangles[range.start + k] = c.input[p as usize];
+            }
+            blas_nodes.push(c.bvh.nodes.clone());
+        }
+        stats.blas_ms = blas_start.elapsed().as_secs_f64() * 1e3;
+
+        // TLAS over meshes and spheres.
+        let tlas_start = Instant::now();
+        let mut inst_bounds = Vec::new();
+        let mut inst = Vec::new();
+        for (m, nodes) in blas_nodes.iter().enumerate() {
+            if data.meshes[m].count > 0 {
+                inst_bounds.push(nodes.first().map(BvhNode::bounds).unwrap_or(Aabb::EMPTY));
+                inst.push((INSTANCE_MESH, m));
+            }
+        }
+        for (i, s) in data.spheres.iter().enumerate() {
+            let c = Vec3::from(s.center);
+            inst_bounds.push(Aabb { min: c - Vec3::splat(s.radius), max: c + Vec3::splat(s.radius) });
+            inst.push((INSTANCE_SPHERE, i));
+        }
+        let centroids: Vec<Vec3> = inst_bounds.iter().map(Aabb::center).collect();
+        let tlas = build(&inst_bounds, &centroids);
+        // BLAS m starts after the TLAS and the BLASes before it.
+        let mut roots = Vec::with_capacity(blas_nodes.len());
+        let mut next = tlas.nodes.len() as u32;
+        for b in &blas_nodes {
+            roots.push(next);
+            next += b.len() as u32;
+        }
+        data.instances = tlas
+            .order
+            .iter()
+            .map(|&p| {
+                let (kind, i) = inst[p as usize];
+                let index = if kind == INSTANCE_MESH { roots[i] } else { i as u32 };
+                InstanceGpu { kind, index, _pad: [0; 2] }
+            })
+            .collect();
+        let mut nodes: Vec<BvhNode> = tlas.nodes;
+        for n in &mut nodes {
+            if n.count > 0 {
+                n.count |= TLAS_LEAF;
+            }
+        }
+        if data.instances.is_empty() {
+            nodes[0].count = TLAS_LEAF; // an empty scene: a leaf with nothing
+        }
+        stats.tlas_ms = tlas_start.elapsed().as_secs_f64() * 1e3;
+        for (m, mut blas) in blas_nodes.into_iter().enumerate() {
+            let (base, first_tri) = (roots[m], data.meshes[m].first);
+            for n in &mut blas {
+                if n.count > 0 {
+                    n.left_first += first_tri;
+                } else {
+                    n.left_first += base;
+                }
+            }
+            nodes.extend(blas);
+        }
+        data.bvh = nodes;
+        stats
+    }
+}
