@@ -4,7 +4,7 @@
 #import scene
 
 @group(0) @binding(0) var gbuf_id: texture_2d<u32>;
-@group(0) @binding(1) var albedo: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(1) var albedo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var lit: texture_storage_2d<rgba32float, write>;
 
 @compute @workgroup_size(8, 8)

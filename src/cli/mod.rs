@@ -1,5 +1,6 @@
 //! The `glint` command line.
 
+mod bench_cmd;
 mod graph_cmd;
 mod render_cmd;
 
@@ -20,6 +21,11 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to a PNG (sRGB) or EXR (linear) file.
     Render(render_cmd::RenderArgs),
+    /// Benchmarks.
+    Bench {
+        #[command(subcommand)]
+        command: bench_cmd::BenchCommand,
+    },
     /// Frame graph tools.
     Graph {
         #[command(subcommand)]
@@ -83,6 +89,7 @@ pub fn main() -> i32 {
     let cli = Cli::parse();
     let result: Result<(), UserError> = match cli.command {
         Command::Render(args) => render_cmd::run(args),
+        Command::Bench { command } => bench_cmd::run(command),
         Command::Graph { command: GraphCommand::Check(args) } => graph_cmd::check(args),
         Command::Shaders { files, dir } => graph_cmd::check_shaders(files, dir),
         Command::Compare { reference, test, block } => compare(&reference, &test, block),

@@ -1,0 +1,70 @@
+// Ray throughput benchmark (`glint bench rays`): one primary ray per pixel
+// through the pixel centre, then per hit one shadow ray (toward a fixed
+// directional light) and one cosine-distributed diffuse ray.
+#import intersect
+#import rng
+#import sampling
+
+@group(0) @binding(0) var bench_hit: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(1) var bench_normal: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(2) var hit_in: texture_2d<f32>;
+@group(0) @binding(3) var normal_in: texture_2d<f32>;
+@group(0) @binding(4) var bench_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(5) var out_in: texture_2d<f32>;
+
+const SUN: vec3f = vec3f(0.28734789, 0.95782629, 0.19156526);
+const INF: f32 = 3.0e38;
+
+// Primary: xyz hit point, w distance along the unit direction (-1: miss).
+@compute @workgroup_size(8, 8)
+fn primary(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
+    let hit = trace_closest(frame.camera.origin, rd, INF);
+    if !hit_found(hit) {
+        textureStore(bench_hit, id.xy, vec4f(0.0, 0.0, 0.0, -1.0));
+        textureStore(bench_normal, id.xy, vec4f(0.0));
+        return;
+    }
+    let n = select(hit.geo_normal, -hit.geo_normal, dot(hit.geo_normal, rd) > 0.0);
+    textureStore(bench_hit, id.xy, vec4f(frame.camera.origin + hit.t * rd, hit.t));
+    textureStore(bench_normal, id.xy, vec4f(n, 0.0));
+}
+
+// Shadow: out.x = primary distance (inf on a miss), out.y = 1 if occluded.
+@compute @workgroup_size(8, 8)
+fn shadow(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let h = textureLoad(hit_in, id.xy, 0);
+    if h.w < 0.0 {
+        textureStore(bench_out, id.xy, vec4f(bitcast<f32>(0x7f800000u), 0.0, 0.0, 0.0));
+        return;
+    }
+    let n = textureLoad(normal_in, id.xy, 0).xyz;
+    let o = offset_ray(h.xyz, n);
+    let blocked = dot(n, SUN) <= 0.0 || trace_any(o, SUN, INF);
+    textureStore(bench_out, id.xy, vec4f(h.w, select(0.0, 1.0, blocked), 0.0, 0.0));
+}
+
+// Diffuse: out.z = distance of a cosine-distributed bounce (-1: miss).
+@compute @workgroup_size(8, 8)
+fn diffuse(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let before = textureLoad(out_in, id.xy, 0);
+    let h = textureLoad(hit_in, id.xy, 0);
+    if h.w < 0.0 {
+        textureStore(bench_out, id.xy, before);
+        return;
+    }
+    let n = textureLoad(normal_in, id.xy, 0).xyz;
+    var rng = rng_for(id.xy, frame.frame_index, 0x62656e63u, frame.seed);
+    let dir = sample_cosine(n, rand2(&rng));
+    let hit = trace_closest(offset_ray(h.xyz, n), dir, INF);
+    textureStore(bench_out, id.xy, vec4f(before.x, before.y, select(-1.0, hit.t, hit_found(hit)), 0.0));
+}

@@ -1,0 +1,140 @@
+//! `glint bench rays`: BVH build speed and primary/shadow/diffuse ray
+//! throughput on a mesh, through the engine's own graph and traversal.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, Subcommand};
+
+use crate::error::UserError;
+use crate::gpu::readback::ImageF32;
+use crate::gpu::Gpu;
+use crate::graph::executor::Timing;
+use crate::graph::{self, CompileOptions};
+use crate::metrics::median;
+use crate::render::{check_size, Renderer};
+
+#[derive(Subcommand, Debug)]
+pub enum BenchCommand {
+    /// Ray throughput on an OBJ mesh.
+    Rays(RaysArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct RaysArgs {
+    #[arg(long)]
+    pub obj: PathBuf,
+    #[arg(long, default_value = "1920x1080", value_parser = super::parse_size)]
+    pub size: (u32, u32),
+    /// ox,oy,oz,tx,ty,tz,vfov_deg (up is +y).
+    #[arg(long, value_parser = parse_camera)]
+    pub camera: [f32; 7],
+    #[arg(long, default_value_t = 5)]
+    pub runs: u32,
+    /// Write the primary hit distance (inf on a miss) as a 1-channel EXR.
+    #[arg(long)]
+    pub hitdist: Option<PathBuf>,
+}
+
+fn parse_camera(s: &str) -> Result<[f32; 7], String> {
+    let v: Vec<f32> = s.split(',').map(|x| x.trim().parse::<f32>()).collect::<Result<_, _>>().map_err(|e| format!("`{s}`: {e}"))?;
+    let arr: [f32; 7] = v.try_into().map_err(|_| format!("`{s}`: give 7 numbers: ox,oy,oz,tx,ty,tz,vfov_deg"))?;
+    if arr.iter().any(|x| !x.is_finite()) || !(arr[6] > 0.0 && arr[6] < 180.0) {
+        return Err(format!("`{s}`: all values must be finite and vfov in (0, 180)"));
+    }
+    Ok(arr)
+}
+
+pub fn run(cmd: BenchCommand) -> Result<(), UserError> {
+    match cmd {
+        BenchCommand::Rays(args) => rays(args),
+    }
+}
+
+fn rays(args: RaysArgs) -> Result<(), UserError> {
+    let obj = std::fs::canonicalize(&args.obj)
+        .map_err(|e| UserError::in_file(&args.obj, format!("cannot open the OBJ: {e}")))?;
+    let c = args.camera;
+    let text = format!(
+        "Scene(camera: Camera(position: ({}, {}, {}), target: ({}, {}, {}), vfov_deg: {}),\n\
+         materials: {{ \"white\": Material(albedo: (0.8, 0.8, 0.8)) }},\n\
+         objects: [ Mesh(path: {:?}, material: \"white\") ])",
+        c[0], c[1], c[2], c[3], c[4], c[5], c[6], obj.display().to_string()
+    );
+    let load_start = Instant::now();
+    let scene = crate::scene::parse(&text, Path::new("bench-rays.ron"))?;
+    let load_ms = load_start.elapsed().as_secs_f64() * 1e3;
+    let triangles = scene.triangle_count();
+    let gpu = Gpu::new()?;
+    check_size(&gpu, args.size)?;
+    let graph_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/bench-rays.ron");
+    let graph_path = if Path::new("passes/bench-rays.ron").is_file() { PathBuf::from("passes/bench-rays.ron") } else { graph_path };
+    let compiled = graph::load_and_compile(&graph_path, &graph::shader_dir_for(&graph_path), &scene.features, &CompileOptions::default())?;
+    let mut renderer = Renderer::new(&gpu, scene, &compiled, args.size, 1)?;
+    let build = renderer.bvh_stats;
+    println!("adapter={}", gpu.describe());
+    println!("triangles={triangles}");
+    println!("obj_load_ms={load_ms:.1}");
+    println!("bvh_build_ms={:.1}", build.build_ms);
+    println!("bvh_update_ms={:.1}", build.blas_ms + build.tlas_ms);
+    println!("bvh_build_mtri_per_s={:.2}", build.mtri_per_s());
+    println!("bvh_nodes={}", renderer.buffers.data.bvh.len());
+
+    // Warm up (pipeline compilation, first-touch), then time each pass.
+    renderer.frame(&gpu, 0.0, Timing::WallPerPass)?;
+    let mut wall: Vec<Vec<f64>> = vec![Vec::new(); 3];
+    let mut stamps: Vec<Vec<f64>> = vec![Vec::new(); 3];
+    for _ in 0..args.runs.max(1) {
+        if let Some(ms) = renderer.frame(&gpu, 0.0, Timing::WallPerPass)? {
+            for (w, m) in wall.iter_mut().zip(ms) {
+                w.push(m);
+            }
+        }
+        if Timing::for_adapter(&gpu) == Timing::Gpu {
+            if let Some(ms) = renderer.frame(&gpu, 0.0, Timing::Gpu)? {
+                for (w, m) in stamps.iter_mut().zip(ms) {
+                    w.push(m);
+                }
+            }
+        }
+    }
+    let out = renderer.read_output(&gpu)?;
+    let pixels = (args.size.0 * args.size.1) as f64;
+    let hits = out.data.iter().filter(|p| p[0].is_finite()).count() as f64;
+    println!("primary_rays={pixels}");
+    println!("secondary_rays_each={hits}");
+    let names = ["primary", "shadow", "diffuse"];
+    let counts = [pixels, hits, hits];
+    for i in 0..3 {
+        let w = median(&wall[i]);
+        println!("{}_ms_wall={w:.3}", names[i]);
+        println!("{}_mrays_per_s_wall={:.2}", names[i], counts[i] / (w * 1e3));
+        if !stamps[i].is_empty() {
+            let g = median(&stamps[i]);
+            println!("{}_ms_gpu={g:.3}", names[i]);
+            println!("{}_mrays_per_s_gpu={:.2}", names[i], counts[i] / (g.max(1e-6) * 1e3));
+        }
+    }
+    if let Some(path) = &args.hitdist {
+        write_hitdist(&out, path)?;
+        println!("hitdist={}", path.display());
+    }
+    Ok(())
+}
+
+/// The x channel (primary hit distance, inf on a miss) as a 1-channel EXR.
+fn write_hitdist(img: &ImageF32, path: &Path) -> Result<(), UserError> {
+    use exr::prelude::*;
+    let samples: Vec<f32> = img.data.iter().map(|p| p[0]).collect();
+    let channel = AnyChannel::new("Z", FlatSamples::F32(samples));
+    let layer = Layer::new(
+        (img.width as usize, img.height as usize),
+        LayerAttributes::named("hitdist"),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(smallvec::smallvec![channel]),
+    );
+    Image::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|e| UserError::in_file(path, format!("cannot write the EXR: {e}")))
+}
