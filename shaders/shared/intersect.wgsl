@@ -175,8 +175,40 @@ fn closer(t: f32, prim: u32, best: Closest) -> bool {
     return t < best.t || (t == best.t && prim < best.prim);
 }
 
+// Every sphere and triangle, no BVH: kept only so `glint bench stress
+// --brute-force` can measure what the BVH buys (the thesis's setup).
+override BRUTE_FORCE: bool = false;
+
+fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
+    var best = Closest(tmax, NO_HIT, vec2f(0.0));
+    for (var i = 0u; i < frame.n_spheres; i++) {
+        let s = scene_spheres[i];
+        let t = ray_sphere(r.o, r.d, s.center, s.radius, 0.0, next_up(best.t));
+        if t > 0.0 && t < tmax && closer(t, i | SPHERE_BIT, best) {
+            best = Closest(t, i | SPHERE_BIT, vec2f(0.0));
+            if any_hit {
+                return best;
+            }
+        }
+    }
+    for (var i = 0u; i < frame.n_triangles; i++) {
+        let tri = scene_triangles[i];
+        let h = hit_triangle(r, tri.p0, tri.p1, tri.p2, next_up(best.t));
+        if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
+            best = Closest(h.x, i, h.yz);
+            if any_hit {
+                return best;
+            }
+        }
+    }
+    return best;
+}
+
 // Traverses the BVH. any_hit: stop at the first hit (shadow rays).
 fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
+    if BRUTE_FORCE {
+        return brute_force(r, tmax, any_hit);
+    }
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
     let root = scene_bvh[0];
     let t_root = hit_box(r, root.bmin, root.bmax, tmax);

@@ -18,6 +18,26 @@ use crate::render::{check_size, Renderer};
 pub enum BenchCommand {
     /// Ray throughput on an OBJ mesh.
     Rays(RaysArgs),
+    /// The thesis's stress test: add copies of the scene's first mesh until
+    /// a frame takes longer than the target; report the triangles reached.
+    Stress(StressArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct StressArgs {
+    pub scene: PathBuf,
+    #[arg(long)]
+    pub graph: PathBuf,
+    #[arg(long)]
+    pub target_ms: f64,
+    #[arg(long, default_value = "256x256", value_parser = super::parse_size)]
+    pub size: (u32, u32),
+    /// Test every triangle for every ray instead of using the BVH.
+    #[arg(long)]
+    pub brute_force: bool,
+    /// Frames timed per step (median).
+    #[arg(long, default_value_t = 3)]
+    pub frames: u32,
 }
 
 #[derive(Args, Debug)]
@@ -48,6 +68,7 @@ fn parse_camera(s: &str) -> Result<[f32; 7], String> {
 pub fn run(cmd: BenchCommand) -> Result<(), UserError> {
     match cmd {
         BenchCommand::Rays(args) => rays(args),
+        BenchCommand::Stress(args) => stress(args),
     }
 }
 
@@ -119,6 +140,82 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
         write_hitdist(&out, path)?;
         println!("hitdist={}", path.display());
     }
+    Ok(())
+}
+
+/// Median wall milliseconds per frame of `scene` with `copies` extra copies
+/// of its first mesh, and the triangle count.
+fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usize), UserError> {
+    use crate::scene::{MeshShape, ObjectId, Transform};
+    let mut scene = crate::scene::load(&args.scene)?;
+    let Some((shape, base, material)) = scene
+        .world
+        .query::<(&MeshShape, &Transform, Option<&crate::scene::MaterialId>)>()
+        .iter()
+        .find(|(m, _, _)| scene.meshes().get(m.mesh).is_some_and(|d| d.triangles.len() > 2))
+        .map(|(m, t, mat)| (*m, *t, mat.copied()))
+    else {
+        return Err(UserError::in_file(&args.scene, "the stress test needs a scene with a mesh of more than two triangles"));
+    };
+    let next_id = scene.world.query::<&ObjectId>().iter().map(|id| id.0).max().unwrap_or(0) + 1;
+    // Copies on a grid in a cube around the original, each a little smaller.
+    let side = (copies as f32).cbrt().ceil().max(1.0) as usize;
+    for k in 0..copies {
+        let (i, j, l) = (k % side, (k / side) % side, k / (side * side));
+        let cell = glam::Vec3::new(i as f32, j as f32, l as f32) / side as f32 - glam::Vec3::splat(0.5);
+        let mut t = base;
+        t.scale *= 0.5 / side as f32;
+        t.translation = base.translation + cell * 1.5;
+        let entity = scene.world.spawn((ObjectId(next_id + k as u32), t, shape));
+        if let Some(m) = material {
+            let _ = scene.world.insert_one(entity, m);
+        }
+    }
+    let triangles = scene.triangle_count();
+    let mut compiled = graph::load_and_compile(&args.graph, &graph::shader_dir_for(&args.graph), &scene.features, &CompileOptions::default())?;
+    if args.brute_force {
+        for pass in &mut compiled.schedule.passes {
+            let has = compiled.shaders.get(&pass.shader).is_some_and(|s| s.info.overrides.iter().any(|o| o.name == "BRUTE_FORCE"));
+            if has {
+                pass.constants.push(("BRUTE_FORCE".into(), 1.0));
+            }
+        }
+    }
+    let mut renderer = Renderer::new(gpu, scene, &compiled, args.size, 1)?;
+    renderer.frame(gpu, 0.0, Timing::WallPerPass)?;
+    let mut ms = Vec::new();
+    for _ in 0..args.frames.max(1) {
+        let start = Instant::now();
+        renderer.frame(gpu, 0.0, Timing::WallPerPass)?;
+        ms.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok((median(&ms), triangles))
+}
+
+fn stress(args: StressArgs) -> Result<(), UserError> {
+    if !(args.target_ms > 0.0) {
+        return Err(UserError::new("--target-ms must be a positive number of milliseconds"));
+    }
+    let gpu = Gpu::new()?;
+    check_size(&gpu, args.size)?;
+    println!("adapter={}", gpu.describe());
+    println!("mode={}", if args.brute_force { "brute-force" } else { "bvh" });
+    let mut copies = 0usize;
+    let mut reached = 0usize;
+    loop {
+        let (ms, tris) = stress_step(&gpu, &args, copies)?;
+        println!("step copies={copies} triangles={tris} frame_ms={ms:.2}");
+        if ms > args.target_ms {
+            break;
+        }
+        reached = tris;
+        if tris > 50_000_000 {
+            break;
+        }
+        copies = (copies * 2).max(1);
+    }
+    println!("target_ms={}", args.target_ms);
+    println!("triangles_within_target={reached}");
     Ok(())
 }
 
