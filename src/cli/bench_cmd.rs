@@ -193,7 +193,7 @@ fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usiz
 }
 
 fn stress(args: StressArgs) -> Result<(), UserError> {
-    if !(args.target_ms > 0.0) {
+    if args.target_ms.is_nan() || args.target_ms <= 0.0 {
         return Err(UserError::new("--target-ms must be a positive number of milliseconds"));
     }
     let gpu = Gpu::new()?;
