@@ -21,7 +21,7 @@ const MAX_P99: f32 = 0.2;
 fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
     for p in &mut img.data {
         match resource {
-            "gbuf_pos" | "gbuf_normal" => {
+            "gbuf_pos" | "gbuf_normal" | "bench_hit" | "bench_normal" => {
                 for c in p.iter_mut().take(3) {
                     *c = image_io::srgb_to_linear((*c * 0.5 + 0.5).clamp(0.0, 1.0));
                 }
@@ -31,6 +31,8 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
                 let h = |x: u32, k: u32| (x.wrapping_mul(2654435761).wrapping_add(k) >> 24) as f32 / 255.0;
                 *p = if o == u32::MAX { [0.0; 4] } else { [h(m, 1), h(o, 2), h(m ^ o, 3), 1.0] };
             }
+            // Distances (inf on a miss), occlusion and bounce distances.
+            "bench_out" => *p = [p[0] / 8.0, p[1], p[2] / 8.0, 1.0],
             _ => {}
         }
     }
@@ -114,6 +116,7 @@ fn golden_images_of_every_pass() {
         ("direct.ron", "cornell-point.ron"),
         ("direct.ron", "moving-lights.ron"),
         ("pathtrace.ron", "cornell.ron"),
+        ("bench-rays.ron", "cornell.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }

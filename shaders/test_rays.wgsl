@@ -1,0 +1,33 @@
+// The GPU side of the ray robustness tests (tests/rays_gpu.rs): every
+// combination of special values (0, -0, NaN, +-Inf, 1, -1, 1e-30) in the
+// ray origin and direction, traced against the scene. Each pixel writes
+// (closest found, any found, t, steps-completed flag).
+#import intersect
+
+@group(0) @binding(0) var ray_result: texture_storage_2d<rgba32float, write>;
+
+fn special(i: u32) -> f32 {
+    switch i {
+        case 0u: { return 0.0; }
+        case 1u: { return bitcast<f32>(0x80000000u); }
+        case 2u: { return bitcast<f32>(0x7fc00000u); }
+        case 3u: { return bitcast<f32>(0x7f800000u); }
+        case 4u: { return bitcast<f32>(0xff800000u); }
+        case 5u: { return 1.0; }
+        case 6u: { return -1.0; }
+        default: { return 1e-30; }
+    }
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if id.x >= 512u || id.y >= 512u {
+        return;
+    }
+    let k = id.y * 512u + id.x; // 8^6 combinations
+    let o = vec3f(special(k & 7u), special((k >> 3u) & 7u), special((k >> 6u) & 7u));
+    let d = vec3f(special((k >> 9u) & 7u), special((k >> 12u) & 7u), special((k >> 15u) & 7u));
+    let h = trace_closest(o, d, 3.0e38);
+    let any = trace_any(o, d, 3.0e38);
+    textureStore(ray_result, id.xy, vec4f(select(0.0, 1.0, hit_found(h)), select(0.0, 1.0, any), h.t, 1.0));
+}
