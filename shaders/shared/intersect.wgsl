@@ -175,8 +175,9 @@ fn closer(t: f32, prim: u32, best: Closest) -> bool {
     return t < best.t || (t == best.t && prim < best.prim);
 }
 
-// Every sphere and triangle, no BVH: kept only so `glint bench stress
-// --brute-force` can measure what the BVH buys (the thesis's setup).
+// Every sphere and triangle, no BVH: what `glint bench stress --brute-force`
+// measures the BVH against (the thesis's setup), and the fast path for
+// tiny scenes below.
 override BRUTE_FORCE: bool = false;
 
 fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
@@ -204,9 +205,15 @@ fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     return best;
 }
 
+// Scenes with at most this many primitives are tested flat: a loop every
+// SIMD lane runs in step beats a divergent stack traversal there (measured
+// on lavapipe: the Cornell box, 13 primitives, traces 2-4x faster flat).
+// The result is identical either way (ties go to the lower id).
+const FLAT_LIMIT: u32 = 32u;
+
 // Traverses the BVH. any_hit: stop at the first hit (shadow rays).
 fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
-    if BRUTE_FORCE {
+    if BRUTE_FORCE || frame.n_spheres + frame.n_triangles <= FLAT_LIMIT {
         return brute_force(r, tmax, any_hit);
     }
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
