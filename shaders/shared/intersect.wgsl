@@ -213,6 +213,12 @@ const FLAT_LIMIT: u32 = 32u;
 
 // Traverses the BVH. any_hit: stop at the first hit (shadow rays).
 fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
+    // A NaN or infinite origin or direction is a miss, at once (infinities
+    // would otherwise enter every box at t = 0 and walk the whole tree).
+    let finite = all(abs(r.o) <= vec3f(3.40282347e38)) && all(abs(r.d) <= vec3f(3.40282347e38));
+    if !finite {
+        return Closest(tmax, NO_HIT, vec2f(0.0));
+    }
     if BRUTE_FORCE || frame.n_spheres + frame.n_triangles <= FLAT_LIMIT {
         return brute_force(r, tmax, any_hit);
     }

@@ -214,7 +214,8 @@ impl Geometry<'_> {
         mut visit: impl FnMut(&Self, u32, u32, &mut Option<Hit>) -> bool,
         best: &mut Option<Hit>,
     ) {
-        let Some(root) = self.nodes.first() else { return };
+        let finite = r.o.is_finite() && r.d.is_finite();
+        let Some(root) = self.nodes.first().filter(|_| finite) else { return };
         let Some(t_root) = hit_box(r, root.bounds().min, root.bounds().max, tmax) else { return };
         let mut stack = [(0u32, 0.0f32); STACK];
         stack[0] = (0, t_root);
