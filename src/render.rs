@@ -46,12 +46,35 @@ pub fn check_size(gpu: &Gpu, size: (u32, u32)) -> Result<(), UserError> {
     Ok(())
 }
 
+/// Every scene array must fit one storage binding on this adapter.
+fn check_buffer_sizes(gpu: &Gpu, data: &crate::scene::SceneData) -> Result<(), UserError> {
+    let limit = u64::from(gpu.device.limits().max_storage_buffer_binding_size);
+    let arrays = [
+        ("triangles", std::mem::size_of_val(data.triangles.as_slice()), data.triangles.len()),
+        ("BVH nodes", std::mem::size_of_val(data.bvh.as_slice()), data.bvh.len()),
+        ("spheres", std::mem::size_of_val(data.spheres.as_slice()), data.spheres.len()),
+    ];
+    for (what, bytes, count) in arrays {
+        if bytes as u64 > limit {
+            return Err(UserError::new(format!(
+                "the scene has {count} {what} ({:.0} MiB), more than this adapter binds in one buffer ({:.0} MiB, {}); \
+                 use fewer or smaller meshes",
+                bytes as f64 / 1048576.0,
+                limit as f64 / 1048576.0,
+                gpu.describe()
+            )));
+        }
+    }
+    Ok(())
+}
+
 impl Renderer {
     pub fn new(gpu: &Gpu, scene: Scene, graph: &CompiledGraph, size: (u32, u32), seed: u32) -> Result<Renderer, UserError> {
         check_size(gpu, size)?;
         let mut bvh = SceneBvh::default();
         let mut data = scene.pack();
         let bvh_stats = bvh.update(&mut data);
+        check_buffer_sizes(gpu, &data)?;
         let buffers = SceneBuffers::new(&gpu.device, data);
         let frame_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),

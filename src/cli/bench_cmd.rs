@@ -203,7 +203,15 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
     let mut copies = 0usize;
     let mut reached = 0usize;
     loop {
-        let (ms, tris) = stress_step(&gpu, &args, copies)?;
+        let (ms, tris) = match stress_step(&gpu, &args, copies) {
+            Ok(step) => step,
+            // Past the adapter's buffer limits: report what fit.
+            Err(e) if reached > 0 => {
+                println!("stopped_early=\"{e}\"");
+                break;
+            }
+            Err(e) => return Err(e),
+        };
         println!("step copies={copies} triangles={tris} frame_ms={ms:.2}");
         if ms > args.target_ms {
             break;
