@@ -48,7 +48,7 @@ pub fn check_size(gpu: &Gpu, size: (u32, u32)) -> Result<(), UserError> {
 
 /// Every scene array must fit one storage binding on this adapter.
 fn check_buffer_sizes(gpu: &Gpu, data: &crate::scene::SceneData) -> Result<(), UserError> {
-    let limit = u64::from(gpu.device.limits().max_storage_buffer_binding_size);
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
     let arrays = [
         ("triangles", std::mem::size_of_val(data.triangles.as_slice()), data.triangles.len()),
         ("BVH nodes", std::mem::size_of_val(data.bvh.as_slice()), data.bvh.len()),
