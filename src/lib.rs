@@ -7,6 +7,7 @@
 
 pub mod bvh;
 pub mod cli;
+pub mod control;
 pub mod error;
 pub mod gpu;
 pub mod graph;
