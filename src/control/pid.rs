@@ -83,7 +83,7 @@ impl Pid {
     /// Untrustworthy input leaves the output where it was.
     pub fn update(&mut self, setpoint: f64, measurement: f64, dt: f64) -> f64 {
         let c = self.config;
-        if !usable(setpoint) || !usable(measurement) || measurement < 0.0 || !(dt > 0.0) || !dt.is_finite() {
+        if !usable(setpoint) || !usable(measurement) || measurement < 0.0 || !usable(dt) || dt <= 0.0 {
             return self.output;
         }
         let dt = dt.min(c.max_dt_s);
