@@ -29,7 +29,7 @@ fn primary(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let n = select(hit.geo_normal, -hit.geo_normal, dot(hit.geo_normal, rd) > 0.0);
-    textureStore(bench_hit, id.xy, vec4f(frame.camera.origin + hit.t * rd, hit.t));
+    textureStore(bench_hit, id.xy, vec4f(hit.position, hit.t));
     textureStore(bench_normal, id.xy, vec4f(n, 0.0));
 }
 

@@ -41,7 +41,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if dot(n, rd) > 0.0 {
         n = hit.geo_normal * flip;
     }
-    textureStore(gbuf_pos, id.xy, vec4f(ro + hit.t * rd, hit.t));
+    textureStore(gbuf_pos, id.xy, vec4f(hit.position, hit.t));
     textureStore(gbuf_normal, id.xy, vec4f(n, 0.0));
     textureStore(gbuf_id, id.xy, vec4u(hit.material, hit.object, 0u, 0u));
 }

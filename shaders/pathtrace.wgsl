@@ -39,7 +39,7 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
             break;
         }
         let m = scene_materials[hit.material];
-        let p = ro + hit.t * rd;
+        let p = hit.position;
         if is_emissive(m) {
             var w = 1.0;
             if hit.light >= 0 && bsdf_pdf > 0.0 {

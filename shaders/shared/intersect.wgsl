@@ -16,6 +16,10 @@ const IZE_SCALE: f32 = 1.0000003576;
 
 struct Hit {
     t: f32,
+    // The hit point on the surface itself: from the barycentrics (triangle)
+    // or projected onto the sphere, not o + t d, whose error grows with |o|
+    // and t (Ray Tracing Gems ch. 6); offset_ray needs it accurate.
+    position: vec3f,
     // Geometric and shading normals (unit length, not yet faced to the ray).
     geo_normal: vec3f,
     normal: vec3f,
@@ -30,7 +34,7 @@ fn hit_found(h: Hit) -> bool {
 }
 
 fn no_hit(tmax: f32) -> Hit {
-    return Hit(tmax, vec3f(0.0), vec3f(0.0), 0u, NO_HIT, -1);
+    return Hit(tmax, vec3f(0.0), vec3f(0.0), vec3f(0.0), 0u, NO_HIT, -1);
 }
 
 // A ray with the watertight test's per-ray constants.
@@ -80,11 +84,24 @@ fn make_ray(o: vec3f, d: vec3f) -> Ray {
 fn hit_box(r: Ray, bmin: vec3f, bmax: vec3f, tmax: f32) -> f32 {
     let t0 = (bmin - r.o) * r.inv;
     let t1 = (bmax - r.o) * r.inv;
-    let lo = min(t0, t1);
-    let hi = max(t0, t1);
+    // A ray parallel to a slab (zero direction component) is inside it for
+    // all t when its origin lies between the planes, boundaries included.
+    let parallel = abs(r.d) < vec3f(1e-30);
+    let inside = (bmin <= r.o) & (r.o <= bmax);
+    let big = 3.40282347e38;
+    let lo = select(min(t0, t1), select(vec3f(big), vec3f(-big), inside), parallel);
+    let hi = select(max(t0, t1), select(vec3f(-big), vec3f(big), inside), parallel);
     let near = max(max(max(lo.x, lo.y), lo.z), 0.0);
     let far = min(min(min(hi.x, hi.y), hi.z), tmax) * IZE_SCALE;
     return select(-1.0, near, near <= far);
+}
+
+// a*b - c*d with one rounding where fma is fused (Kahan).
+fn diff_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let cd = c * d;
+    let err = fma(-c, d, cd);
+    let dop = fma(a, b, -cd);
+    return dop + err;
 }
 
 // Watertight ray/triangle: (t, b1, b2) with t in (0, tmax), or t = -1.
@@ -98,9 +115,16 @@ fn hit_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f, tmax: f32) -> vec3f {
     let by = b.y - r.s.y * b.z;
     let cx = c.x - r.s.x * c.z;
     let cy = c.y - r.s.y * c.z;
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
+    var u = cx * by - cy * bx;
+    var v = ax * cy - ay * cx;
+    var w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        // An edge function rounded to zero: recompute all three as
+        // differences of products with fma (Kahan) before trusting signs.
+        u = diff_of_products(cx, by, cy, bx);
+        v = diff_of_products(ax, cy, ay, cx);
+        w = diff_of_products(bx, ay, by, ax);
+    }
     let miss = vec3f(-1.0, 0.0, 0.0);
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return miss;
@@ -130,6 +154,9 @@ fn hit_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f, tmax: f32) -> vec3f {
 // discriminant from the perpendicular distance, the smaller root from c / q.
 // `rd` must be unit length. Nearest t in (tmin, tmax), or -1.
 fn ray_sphere(ro: vec3f, rd: vec3f, center: vec3f, radius: f32, tmin: f32, tmax: f32) -> f32 {
+    if !(dot(rd, rd) > 0.0) {
+        return -1.0; // a zero direction goes nowhere
+    }
     let f = ro - center;
     let b = -dot(f, rd);
     let l = f + b * rd;
@@ -233,7 +260,8 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     for (var steps = 0u; sp > 0u && steps < MAX_STEPS; steps++) {
         sp -= 1u;
         let top = stack[sp];
-        if bitcast<f32>(top.y) > best.t {
+        // The same slack hit_box gives its far bound.
+        if bitcast<f32>(top.y) > best.t * IZE_SCALE {
             continue;
         }
         let node = scene_bvh[top.x];
@@ -309,14 +337,15 @@ fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     }
     if (c.prim & SPHERE_BIT) != 0u {
         let s = scene_spheres[c.prim & ~SPHERE_BIT];
-        let n = (ro + c.t * rd - s.center) / s.radius;
-        return Hit(c.t, n, n, s.material, s.object, s.light);
+        let n = normalize(ro + c.t * rd - s.center);
+        return Hit(c.t, s.center + s.radius * n, n, n, s.material, s.object, s.light);
     }
     let tri = scene_triangles[c.prim];
     let gn = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
     var sn = (1.0 - c.uv.x - c.uv.y) * tri.n0 + c.uv.x * tri.n1 + c.uv.y * tri.n2;
     sn = select(gn, normalize(sn), dot(sn, sn) > 1e-12);
-    return Hit(c.t, gn, sn, tri.material, tri.object, -1);
+    let p = (1.0 - c.uv.x - c.uv.y) * tri.p0 + c.uv.x * tri.p1 + c.uv.y * tri.p2;
+    return Hit(c.t, p, gn, sn, tri.material, tri.object, -1);
 }
 
 // Whether anything blocks the ray in (0, tmax) (shadow rays; exits early).

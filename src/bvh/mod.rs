@@ -5,8 +5,11 @@
 
 pub mod aabb;
 pub mod build;
+pub mod offset;
 pub mod ray;
 pub mod scene;
+#[cfg(test)]
+mod tests;
 
 pub use aabb::Aabb;
 pub use build::{build, refit, Bvh, BvhNode, MAX_LEAF};

@@ -59,9 +59,17 @@ pub fn hit_triangle(r: &Ray, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<
     let by = b[ky] - r.s.y * b[kz];
     let cx = c[kx] - r.s.x * c[kz];
     let cy = c[ky] - r.s.y * c[kz];
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        // An edge function rounded to zero: recompute all three as exact
+        // differences of products (Kahan's fma trick) before trusting the
+        // signs (Woop et al. fall back to double precision here).
+        u = diff_of_products(cx, by, cy, bx);
+        v = diff_of_products(ax, cy, ay, cx);
+        w = diff_of_products(bx, ay, by, ax);
+    }
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return None;
     }
@@ -85,9 +93,21 @@ pub fn hit_triangle(r: &Ray, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<
     Some((t, v * inv, w * inv))
 }
 
+/// a*b - c*d with one rounding (Kahan): exact sign even when the two
+/// products nearly cancel.
+pub fn diff_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let cd = c * d;
+    let err = (-c).mul_add(d, cd);
+    let dop = a.mul_add(b, -cd);
+    dop + err
+}
+
 /// Ray/sphere with the precision fix of Ray Tracing Gems ch. 7 (`d` unit
 /// length): nearest t in (tmin, tmax).
 pub fn hit_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32, tmin: f32, tmax: f32) -> Option<f32> {
+    if d.dot(d) <= 0.0 {
+        return None; // a zero direction goes nowhere
+    }
     let f = o - center;
     let b = -f.dot(d);
     let l = f + b * d;
@@ -115,8 +135,20 @@ pub fn hit_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32, tmin: f32, tmax: 
 pub fn hit_box(r: &Ray, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
     let t0 = (bmin - r.o) * r.inv;
     let t1 = (bmax - r.o) * r.inv;
-    let near = t0.min(t1).max_element().max(0.0);
-    let far = t0.max(t1).min_element().min(tmax) * IZE_SCALE;
+    let mut lo = t0.min(t1);
+    let mut hi = t0.max(t1);
+    // A ray parallel to a slab (a zero direction component) is inside it
+    // for all t when its origin is between the planes, boundaries included,
+    // and never otherwise; 0 * 1e30 would make the slab end at t = 0.
+    for a in 0..3 {
+        if r.d[a].abs() < 1e-30 {
+            let inside = bmin[a] <= r.o[a] && r.o[a] <= bmax[a];
+            lo[a] = if inside { -f32::MAX } else { f32::MAX };
+            hi[a] = if inside { f32::MAX } else { -f32::MAX };
+        }
+    }
+    let near = lo.max_element().max(0.0);
+    let far = hi.min_element().min(tmax) * IZE_SCALE;
     (near <= far).then_some(near)
 }
 
@@ -224,7 +256,8 @@ impl Geometry<'_> {
             sp -= 1;
             let (index, t_near) = stack[sp];
             let limit = best.map_or(tmax, |b| b.t).min(tmax);
-            if t_near > limit {
+            // The same slack hit_box gives its far bound.
+            if t_near > limit * IZE_SCALE {
                 continue;
             }
             let node = self.nodes[index as usize];

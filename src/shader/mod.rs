@@ -35,6 +35,7 @@ pub fn from_source(source: ShaderSource) -> Result<Shader, UserError> {
             .labels()
             .next()
             .map(|(span, _)| source.span_location(span))
+            .or_else(|| e.location(&source.text).map(|l| source.original(l.line_number as usize, l.line_position as usize)))
             .unwrap_or_else(|| source.original(0, 0));
         let mut msg = format!("WGSL error: {}", e.message());
         for (_, label) in e.labels().filter(|(_, l)| !l.is_empty()) {

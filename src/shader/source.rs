@@ -24,7 +24,10 @@ pub struct ShaderSource {
 impl ShaderSource {
     /// The original file and line of a 1-based line of the expanded text.
     pub fn original(&self, expanded_line: usize, col: usize) -> Location {
-        match self.line_map.get(expanded_line.saturating_sub(1)) {
+        if expanded_line == 0 {
+            return Location::file(&self.files[0]); // naga gave no position
+        }
+        match self.line_map.get(expanded_line - 1) {
             Some(&(file, line)) => Location::at(&self.files[file], line, col),
             None => Location::file(&self.files[0]),
         }
