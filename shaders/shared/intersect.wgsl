@@ -219,17 +219,24 @@ fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
             }
         }
     }
-    for (var i = 0u; i < frame.n_triangles; i++) {
+    test_triangles(r, 0u, frame.n_triangles, tmax, any_hit, &best);
+    return best;
+}
+
+// Tests triangles first .. first + count into `best`; true when any_hit
+// and something was hit (stop).
+fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
+    for (var i = first; i < first + count; i++) {
         let tri = scene_triangles[i];
-        let h = hit_triangle(r, tri.p0, tri.p1, tri.p2, next_up(best.t));
-        if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
-            best = Closest(h.x, i, h.yz);
+        let h = hit_triangle(r, tri.p0, tri.p1, tri.p2, next_up((*best).t));
+        if h.x > 0.0 && h.x < tmax && closer(h.x, i, *best) {
+            *best = Closest(h.x, i, h.yz);
             if any_hit {
-                return best;
+                return true;
             }
         }
     }
-    return best;
+    return false;
 }
 
 // Scenes with at most this many primitives are tested flat: a loop every
@@ -289,15 +296,8 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
                 }
             }
         } else if node.count > 0u {
-            for (var i = node.left_first; i < node.left_first + node.count; i++) {
-                let tri = scene_triangles[i];
-                let h = hit_triangle(r, tri.p0, tri.p1, tri.p2, next_up(best.t));
-                if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
-                    best = Closest(h.x, i, h.yz);
-                    if any_hit {
-                        return best;
-                    }
-                }
+            if test_triangles(r, node.left_first, node.count, tmax, any_hit, &best) {
+                return best;
             }
         } else {
             let a = node.left_first;

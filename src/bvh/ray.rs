@@ -209,15 +209,20 @@ impl Geometry<'_> {
         best
     }
 
+    /// Tests a sphere (kind 0) or a triangle (kind 1).
+    fn test(&self, r: &Ray, kind: u32, i: u32, best: &mut Option<Hit>, tmax: f32) {
+        if kind == 0 {
+            self.test_sphere(r, i, best, tmax);
+        } else {
+            self.test_triangle(r, i, best, tmax);
+        }
+    }
+
     /// Closest hit through the TLAS and BLASes.
     pub fn closest(&self, r: &Ray, tmax: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        self.traverse(r, tmax, |g, kind, i, best_ref| {
-            if kind == 0 {
-                g.test_sphere(r, i, best_ref, tmax);
-            } else {
-                g.test_triangle(r, i, best_ref, tmax);
-            }
+        self.traverse(r, tmax, |g, kind, i, b| {
+            g.test(r, kind, i, b, tmax);
             false
         }, &mut best);
         best
@@ -226,13 +231,9 @@ impl Geometry<'_> {
     /// Whether anything is hit in (0, tmax) (shadow rays; stops at the first).
     pub fn any(&self, r: &Ray, tmax: f32) -> bool {
         let mut best: Option<Hit> = None;
-        self.traverse(r, tmax, |g, kind, i, best_ref| {
-            if kind == 0 {
-                g.test_sphere(r, i, best_ref, tmax);
-            } else {
-                g.test_triangle(r, i, best_ref, tmax);
-            }
-            best_ref.is_some()
+        self.traverse(r, tmax, |g, kind, i, b| {
+            g.test(r, kind, i, b, tmax);
+            b.is_some()
         }, &mut best);
         best.is_some()
     }
