@@ -243,3 +243,34 @@ fn write_hitdist(img: &ImageF32, path: &Path) -> Result<(), UserError> {
         .to_file(path)
         .map_err(|e| UserError::in_file(path, format!("cannot write the EXR: {e}")))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hitdist_exr_round_trips_with_inf() {
+        let mut img = ImageF32::new(3, 2);
+        for (i, p) in img.data.iter_mut().enumerate() {
+            p[0] = if i == 4 { f32::INFINITY } else { i as f32 * 1.5 };
+        }
+        let path = std::env::temp_dir().join(format!("glint-hitdist-{}.exr", std::process::id()));
+        write_hitdist(&img, &path).unwrap();
+        let read = exr::prelude::read_first_flat_layer_from_file(&path).unwrap();
+        let layer = &read.layer_data;
+        assert_eq!((layer.size.0, layer.size.1), (3, 2));
+        assert_eq!(layer.channel_data.list.len(), 1);
+        let values: Vec<f32> = layer.channel_data.list[0].sample_data.values_as_f32().collect();
+        let want: Vec<f32> = img.data.iter().map(|p| p[0]).collect();
+        assert_eq!(values, want);
+        std::fs::remove_file(&path).ok();
+    }
+
+    #[test]
+    fn camera_argument_is_checked() {
+        assert!(parse_camera("0,0,5,0,0,0,45").is_ok());
+        assert!(parse_camera("0,0,5,0,0,0").is_err());
+        assert!(parse_camera("0,0,5,0,0,0,180").is_err());
+        assert!(parse_camera("0,0,NaN,0,0,0,45").is_err());
+    }
+}
