@@ -51,6 +51,7 @@ fn check_buffer_sizes(gpu: &Gpu, data: &crate::scene::SceneData) -> Result<(), U
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
     let arrays = [
         ("triangles", std::mem::size_of_val(data.triangles.as_slice()), data.triangles.len()),
+        ("triangle normals", std::mem::size_of_val(data.normals.as_slice()), data.normals.len()),
         ("BVH nodes", std::mem::size_of_val(data.bvh.as_slice()), data.bvh.len()),
         ("spheres", std::mem::size_of_val(data.spheres.as_slice()), data.spheres.len()),
     ];

@@ -5,7 +5,7 @@ mod common;
 
 use common::repo;
 use glint::gpu::frame::{CameraGpu, FrameGpu};
-use glint::scene::{LightGpu, MaterialGpu, MeshGpu, SphereGpu, TriangleGpu};
+use glint::scene::{LightGpu, MaterialGpu, MeshGpu, SphereGpu, TriangleGpu, TriangleNormalsGpu};
 use std::mem::{offset_of, size_of};
 
 #[test]
@@ -53,7 +53,8 @@ fn wgsl_structs_match_rust() {
     check!("Camera", CameraGpu, [origin, tan_half_fov, right, aspect, up, forward]);
     check!("Frame", FrameGpu, [camera, prev_camera, size, frame_index, accum_count, time, seed, scene_epoch, n_spheres, n_instances, n_triangles, n_lights, background]);
     check!("Sphere", SphereGpu, [center, radius, material, light, object]);
-    check!("Triangle", TriangleGpu, [p0, material, p1, object, p2, n0, n1, n2]);
+    check!("Triangle", TriangleGpu, [p0, material, p1, object, p2]);
+    check!("TriangleNormals", TriangleNormalsGpu, [n0, n1, n2]);
     check!("Mesh", MeshGpu, [bmin, first, bmax, count]);
     check!("Material", MaterialGpu, [albedo, specular, emission, roughness]);
     check!("Light", LightGpu, [position, radius, color, kind]);

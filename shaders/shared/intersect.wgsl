@@ -342,7 +342,8 @@ fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     }
     let tri = scene_triangles[c.prim];
     let gn = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
-    var sn = (1.0 - c.uv.x - c.uv.y) * tri.n0 + c.uv.x * tri.n1 + c.uv.y * tri.n2;
+    let tn = scene_normals[c.prim];
+    var sn = (1.0 - c.uv.x - c.uv.y) * tn.n0 + c.uv.x * tn.n1 + c.uv.y * tn.n2;
     sn = select(gn, normalize(sn), dot(sn, sn) > 1e-12);
     let p = (1.0 - c.uv.x - c.uv.y) * tri.p0 + c.uv.x * tri.p1 + c.uv.y * tri.p2;
     return Hit(c.t, p, gn, sn, tri.material, tri.object, -1);

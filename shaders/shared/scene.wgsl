@@ -10,6 +10,7 @@ struct Sphere {
     _pad: u32,
 }
 
+// What intersection reads (48 bytes); shading normals live apart.
 struct Triangle {
     p0: vec3f,
     material: u32,
@@ -17,6 +18,9 @@ struct Triangle {
     object: u32,
     p2: vec3f,
     _pad0: u32,
+}
+
+struct TriangleNormals {
     n0: vec3f,
     _pad1: f32,
     n1: vec3f,
@@ -54,6 +58,7 @@ struct Light {
 @group(1) @binding(3) var<storage, read> scene_meshes: array<Mesh>;
 @group(1) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(1) @binding(5) var<storage, read> scene_lights: array<Light>;
+@group(1) @binding(8) var<storage, read> scene_normals: array<TriangleNormals>;
 
 fn is_emissive(m: Material) -> bool {
     return max(m.emission.x, max(m.emission.y, m.emission.z)) > 0.0;

@@ -13,7 +13,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::{build, refit, Aabb, Bvh, BvhNode};
-use crate::scene::{SceneData, TriangleGpu};
+use crate::scene::{SceneData, TriangleGpu, TriangleNormalsGpu};
 
 pub const TLAS_LEAF: u32 = 0x8000_0000;
 pub const INSTANCE_SPHERE: u32 = 0;
@@ -51,6 +51,7 @@ impl BuildStats {
 /// One mesh's BLAS and the (world-space, unordered) triangles it was built for.
 struct CachedBlas {
     input: Vec<TriangleGpu>,
+    normals: Vec<TriangleNormalsGpu>,
     bvh: Bvh,
 }
 
@@ -74,13 +75,15 @@ impl SceneBvh {
         for (m, mesh) in data.meshes.iter().enumerate() {
             let range = mesh.first as usize..(mesh.first + mesh.count) as usize;
             let input = &data.triangles[range.clone()];
+            let normals = data.normals.get(range.clone()).unwrap_or(&[]);
             let entry = &mut self.cache[m];
             match entry {
-                Some(c) if c.input == input => {}
+                Some(c) if c.input == input && c.normals == normals => {}
                 Some(c) if c.input.len() == input.len() => {
                     let bounds: Vec<Aabb> = input.iter().map(tri_bounds).collect();
                     refit(&mut c.bvh, &bounds);
                     c.input.copy_from_slice(input);
+                    c.normals = normals.to_vec();
                 }
                 _ => {
                     let bounds: Vec<Aabb> = input.iter().map(tri_bounds).collect();
@@ -88,12 +91,16 @@ impl SceneBvh {
                     let bvh = build(&bounds);
                     stats.build_ms += start.elapsed().as_secs_f64() * 1e3;
                     stats.built_triangles += input.len();
-                    *entry = Some(CachedBlas { input: input.to_vec(), bvh });
+                    *entry = Some(CachedBlas { input: input.to_vec(), normals: normals.to_vec(), bvh });
                 }
             }
             let Some(c) = entry.as_ref() else { continue };
+            // Triangles (and their normals) in leaf order.
             for (k, &p) in c.bvh.order.iter().enumerate() {
                 data.triangles[range.start + k] = c.input[p as usize];
+                if let (Some(dst), Some(src)) = (data.normals.get_mut(range.start + k), c.normals.get(p as usize)) {
+                    *dst = *src;
+                }
             }
             blas_nodes.push(c.bvh.nodes.clone());
         }

@@ -11,6 +11,7 @@ use crate::scene::SceneData;
 pub struct SceneBuffers {
     pub spheres: wgpu::Buffer,
     pub triangles: wgpu::Buffer,
+    pub normals: wgpu::Buffer,
     pub meshes: wgpu::Buffer,
     pub materials: wgpu::Buffer,
     pub lights: wgpu::Buffer,
@@ -37,6 +38,7 @@ impl SceneBuffers {
         SceneBuffers {
             spheres: storage(device, "scene_spheres", &data.spheres),
             triangles: storage(device, "scene_triangles", &data.triangles),
+            normals: storage(device, "scene_normals", &data.normals),
             meshes: storage(device, "scene_meshes", &data.meshes),
             materials: storage(device, "scene_materials", &data.materials),
             lights: storage(device, "scene_lights", &data.lights),
@@ -59,6 +61,7 @@ impl SceneBuffers {
         }
         write(queue, &self.spheres, &self.data.spheres, &data.spheres, &mut changed);
         write(queue, &self.triangles, &self.data.triangles, &data.triangles, &mut changed);
+        write(queue, &self.normals, &self.data.normals, &data.normals, &mut changed);
         write(queue, &self.meshes, &self.data.meshes, &data.meshes, &mut changed);
         write(queue, &self.materials, &self.data.materials, &data.materials, &mut changed);
         write(queue, &self.lights, &self.data.lights, &data.lights, &mut changed);
@@ -77,6 +80,7 @@ impl SceneBuffers {
             EngineResource::Frame => None,
             EngineResource::Spheres => Some(&self.spheres),
             EngineResource::Triangles => Some(&self.triangles),
+            EngineResource::Normals => Some(&self.normals),
             EngineResource::Meshes => Some(&self.meshes),
             EngineResource::Materials => Some(&self.materials),
             EngineResource::Lights => Some(&self.lights),

@@ -12,6 +12,8 @@ pub enum EngineResource {
     Frame,
     Spheres,
     Triangles,
+    /// Shading normals, parallel to the triangles.
+    Normals,
     Meshes,
     Materials,
     Lights,
@@ -21,10 +23,11 @@ pub enum EngineResource {
 }
 
 impl EngineResource {
-    pub const ALL: [EngineResource; 8] = [
+    pub const ALL: [EngineResource; 9] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Triangles,
+        EngineResource::Normals,
         EngineResource::Meshes,
         EngineResource::Materials,
         EngineResource::Lights,
@@ -37,6 +40,7 @@ impl EngineResource {
             EngineResource::Frame => "frame",
             EngineResource::Spheres => "scene_spheres",
             EngineResource::Triangles => "scene_triangles",
+            EngineResource::Normals => "scene_normals",
             EngineResource::Meshes => "scene_meshes",
             EngineResource::Materials => "scene_materials",
             EngineResource::Lights => "scene_lights",

@@ -17,7 +17,10 @@ pub struct SphereGpu {
     pub _pad: u32,
 }
 
-/// `struct Triangle` (96 bytes): world-space vertices and shading normals.
+/// `struct Triangle` (48 bytes): world-space vertices, what intersection
+/// reads. Shading normals live apart (`TriangleNormalsGpu`), so the array
+/// traversal touches stays small (one storage binding holds ~2.8M of them
+/// at 128 MiB).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct TriangleGpu {
@@ -27,6 +30,13 @@ pub struct TriangleGpu {
     pub object: u32,
     pub p2: [f32; 3],
     pub _pad0: u32,
+}
+
+/// `struct TriangleNormals` (48 bytes): the shading normals of the triangle
+/// with the same index.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct TriangleNormalsGpu {
     pub n0: [f32; 3],
     pub _pad1: f32,
     pub n1: [f32; 3],
@@ -76,6 +86,8 @@ pub struct LightGpu {
 pub struct SceneData {
     pub spheres: Vec<SphereGpu>,
     pub triangles: Vec<TriangleGpu>,
+    /// Parallel to `triangles`.
+    pub normals: Vec<TriangleNormalsGpu>,
     pub meshes: Vec<MeshGpu>,
     pub materials: Vec<MaterialGpu>,
     pub lights: Vec<LightGpu>,

@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::gpu_types::{
-    LightGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, LIGHT_POINT, LIGHT_SPHERE,
+    LightGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, LIGHT_POINT, LIGHT_SPHERE,
 };
 use super::world::{
     Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, Transform,
@@ -64,6 +64,7 @@ impl Scene {
             .collect();
         instances.sort_by_key(|i| i.0);
         let mut triangles = Vec::with_capacity(self.triangle_count());
+        let mut normals = Vec::with_capacity(self.triangle_count());
         let mut meshes = Vec::with_capacity(instances.len());
         for (id, t, mesh) in instances {
             let Some(data) = self.meshes.get(mesh) else {
@@ -85,6 +86,8 @@ impl Scene {
                     object: id.0,
                     p2: p[2].into(),
                     _pad0: 0,
+                });
+                normals.push(TriangleNormalsGpu {
                     n0: n[0].into(),
                     _pad1: 0.0,
                     n1: n[1].into(),
@@ -107,6 +110,7 @@ impl Scene {
         SceneData {
             spheres: spheres.into_iter().map(|s| s.1).collect(),
             triangles,
+            normals,
             meshes,
             materials: self.materials.clone(),
             lights: lights.into_iter().map(|l| l.2).collect(),

@@ -142,12 +142,13 @@ fn cornell_packs_quads_spheres_and_the_light() {
 
     for (i, m) in d.meshes.iter().enumerate() {
         assert_eq!((m.first, m.count), (2 * i as u32, 2));
-        for t in &d.triangles[m.first as usize..(m.first + m.count) as usize] {
+        let range = m.first as usize..(m.first + m.count) as usize;
+        for (t, tn) in d.triangles[range.clone()].iter().zip(&d.normals[range]) {
             assert_eq!(t.object, i as u32);
-            assert_eq!((t._pad0, t._pad1, t._pad2, t._pad3), (0, 0.0, 0.0, 0.0));
+            assert_eq!((t._pad0, tn._pad1, tn._pad2, tn._pad3), (0, 0.0, 0.0, 0.0));
             // Walls face the inside of the box.
             let centroid = (Vec3::from(t.p0) + Vec3::from(t.p1) + Vec3::from(t.p2)) / 3.0;
-            let n = Vec3::from(t.n0);
+            let n = Vec3::from(tn.n0);
             assert!(n.dot(-centroid) > 0.0, "wall {i} faces outwards");
             let geo =
                 (Vec3::from(t.p1) - Vec3::from(t.p0)).cross(Vec3::from(t.p2) - Vec3::from(t.p0));
@@ -239,8 +240,9 @@ fn moving_lights_has_the_knot_on_the_floor() {
     assert!(d.triangles[10..]
         .iter()
         .all(|t| t.material == 3 && t.object == 5));
+    assert_eq!(d.normals.len(), d.triangles.len());
     assert!(d
-        .triangles
+        .normals
         .iter()
         .all(|t| (Vec3::from(t.n1).length() - 1.0).abs() < 1e-4));
     assert_eq!(d.spheres.len(), 3);
@@ -348,7 +350,8 @@ fn meshes_transform_and_take_materials() {
         "{:?}",
         t.p1
     );
-    assert!((Vec3::from(t.n0) - Vec3::X).length() < 1e-5, "{:?}", t.n0);
+    let tn = d.normals[0];
+    assert!((Vec3::from(tn.n0) - Vec3::X).length() < 1e-5, "{:?}", tn.n0);
     assert_eq!(t.material, 2);
     assert!((d.meshes[0].bmin[2] - 1.0).abs() < 1e-5 && (d.meshes[0].bmax[1] - 4.0).abs() < 1e-5);
     assert_eq!(d.triangles[2].material, 3);
