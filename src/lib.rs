@@ -15,5 +15,6 @@ pub mod image_io;
 pub mod machines;
 pub mod metrics;
 pub mod render;
+pub mod sampling;
 pub mod scene;
 pub mod shader;

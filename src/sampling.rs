@@ -1,0 +1,131 @@
+//! The Rust mirror of shaders/shared/sampling.wgsl and rng.wgsl: the same
+//! formulas, so they can be tested exhaustively on the CPU.
+
+use glam::{Mat3, Vec2, Vec3};
+
+pub const PI: f32 = std::f32::consts::PI;
+
+/// An orthonormal basis with `n` as its third column (Duff et al. 2017).
+pub fn basis(n: Vec3) -> Mat3 {
+    let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    let t = Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    let bt = Vec3::new(b, s + n.y * n.y * a, -n.y);
+    Mat3::from_cols(t, bt, n)
+}
+
+/// Cosine-weighted direction around `n`; pdf = cos(theta) / pi.
+pub fn sample_cosine(n: Vec3, u: Vec2) -> Vec3 {
+    let r = u.x.sqrt();
+    let phi = 2.0 * PI * u.y;
+    let local = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u.x).max(0.0).sqrt());
+    (basis(n) * local).normalize()
+}
+
+/// Uniform direction in the cone around `axis` with cos(half-angle)
+/// `cos_max`; pdf = 1 / (2 pi (1 - cos_max)).
+pub fn sample_cone(axis: Vec3, cos_max: f32, u: Vec2) -> Vec3 {
+    let cos_t = 1.0 - u.x * (1.0 - cos_max);
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+    (basis(axis) * local).normalize()
+}
+
+/// cos of the half-angle a sphere of radius r subtends at distance d > r.
+pub fn sphere_cos_max(d: f32, r: f32) -> f32 {
+    let s = r / d;
+    (1.0 - s * s).max(0.0).sqrt()
+}
+
+pub fn cone_pdf(cos_max: f32) -> f32 {
+    1.0 / (2.0 * PI * (1.0 - cos_max).max(1e-12))
+}
+
+/// The PCG hash of rng.wgsl.
+pub fn pcg_hash(v: u32) -> u32 {
+    let state = v.wrapping_mul(747796405).wrapping_add(2891336453);
+    let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277803737);
+    (word >> 22) ^ word
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Low-discrepancy points for deterministic estimates.
+    fn hammersley(i: u32, n: u32) -> Vec2 {
+        Vec2::new((i as f32 + 0.5) / n as f32, i.reverse_bits() as f32 / 4294967296.0)
+    }
+
+    fn normals() -> Vec<Vec3> {
+        let mut v = vec![Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+        v.push(Vec3::new(0.0, 1e-7, -1.0).normalize()); // near the n.z = -1 seam
+        for i in 0..200 {
+            let u = hammersley(i, 200);
+            let z = 1.0 - 2.0 * u.x;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            v.push(Vec3::new(r * (2.0 * PI * u.y).cos(), r * (2.0 * PI * u.y).sin(), z));
+        }
+        v
+    }
+
+    #[test]
+    fn basis_is_orthonormal_everywhere() {
+        for n in normals() {
+            let m = basis(n);
+            for (a, b) in [(0, 1), (1, 2), (0, 2)] {
+                assert!(m.col(a).dot(m.col(b)).abs() < 1e-5, "{n:?}");
+            }
+            for c in 0..3 {
+                assert!((m.col(c).length() - 1.0).abs() < 1e-5, "{n:?}");
+            }
+            assert!((m.col(0).cross(m.col(1)) - n).length() < 1e-4, "not right-handed at {n:?}");
+        }
+    }
+
+    #[test]
+    fn cosine_samples_stay_in_the_hemisphere_with_the_right_mean() {
+        for n in normals() {
+            let count = 4096;
+            let mut mean_cos = 0.0;
+            for i in 0..count {
+                let d = sample_cosine(n, hammersley(i, count));
+                let c = d.dot(n);
+                assert!(c >= -1e-6, "{n:?} {d:?}");
+                mean_cos += c / count as f32;
+            }
+            // E[cos] under cos/pi is 2/3.
+            assert!((mean_cos - 2.0 / 3.0).abs() < 2e-3, "{n:?}: {mean_cos}");
+        }
+    }
+
+    /// Irradiance from a sphere light estimated by cone sampling equals the
+    /// analytic pi L sin^2(theta_max) cos(theta) for a sphere above the horizon.
+    #[test]
+    fn cone_sampling_estimates_sphere_light_irradiance() {
+        let (l, r) = (3.0f32, 0.3f32);
+        for (d, tilt) in [(1.0f32, 0.0f32), (2.0, 0.5), (5.0, 1.0), (1.5, 0.9)] {
+            let n = Vec3::Y;
+            let axis = Vec3::new(tilt.sin(), tilt.cos(), 0.0);
+            let cos_max = sphere_cos_max(d, r);
+            let count = 16384;
+            let mut e = 0.0f64;
+            for i in 0..count {
+                let dir = sample_cone(axis, cos_max, hammersley(i, count));
+                assert!(dir.dot(axis) >= cos_max - 1e-5);
+                e += f64::from(l * dir.dot(n).max(0.0) / cone_pdf(cos_max)) / f64::from(count);
+            }
+            let exact = f64::from(PI * l * (r / d) * (r / d) * tilt.cos());
+            assert!((e - exact).abs() / exact < 2e-3, "d {d} tilt {tilt}: {e} vs {exact}");
+        }
+    }
+
+    #[test]
+    fn pcg_hash_is_the_published_one() {
+        // Reference values of pcg_hash (Jarzynski & Olano 2020).
+        assert_eq!(pcg_hash(0), 129708002);
+        assert_ne!(pcg_hash(1), pcg_hash(2));
+    }
+}
