@@ -6,6 +6,7 @@
 //! encoder per frame from it.
 
 pub mod bvh;
+pub mod camera_path;
 pub mod cli;
 pub mod control;
 pub mod error;

@@ -7,6 +7,7 @@ use clap::Args;
 
 use crate::error::UserError;
 use crate::gpu::Gpu;
+use crate::camera_path::CameraPath;
 use crate::graph::executor::Timing;
 use crate::graph::{self, CompileOptions};
 use crate::machines::{DeviceType, Machines};
@@ -40,6 +41,11 @@ pub struct RenderArgs {
     /// Write this graph resource instead of the graph's output (debugging).
     #[arg(long)]
     pub output: Option<String>,
+    /// Move the camera: orbit:DEG_PER_S, or keys:FILE.ron with
+    /// [Key(time_s, position, target), ...]; evaluated at each frame's time
+    /// (--time + --dt * frame).
+    #[arg(long)]
+    pub camera_path: Option<String>,
 }
 
 /// Picks the graph: `--graph`, else the machine profile's.
@@ -69,6 +75,8 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
         }
     }
     let scene = scene::load(&args.scene)?;
+    let camera_path = args.camera_path.as_deref().map(CameraPath::parse).transpose()?;
+    let base_camera = scene.camera;
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
     let graph_path = choose_graph(&args, &gpu)?;
@@ -97,7 +105,11 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     let mut pass_ms: Vec<Vec<f64>> = vec![Vec::new(); renderer.executor.pass_names().len()];
     for i in 0..args.frames {
         let t0 = Instant::now();
-        let ms = renderer.frame(&gpu, args.time + args.dt * i as f32, timing)?;
+        let time = args.time + args.dt * i as f32;
+        if let Some(path) = &camera_path {
+            renderer.scene.camera = path.at(&base_camera, time);
+        }
+        let ms = renderer.frame(&gpu, time, timing)?;
         frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         if let Some(ms) = ms {
             for (acc, m) in pass_ms.iter_mut().zip(ms) {

@@ -1,0 +1,121 @@
+//! Camera motion for headless renders (`glint render --camera-path`): an
+//! orbit around the camera's target, or keyframes from a RON file,
+//! evaluated at the scene time of each frame.
+
+use std::path::Path;
+
+use glam::{Quat, Vec3};
+use serde::Deserialize;
+
+use crate::error::{ron_error, UserError};
+use crate::scene::Camera;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum CameraPath {
+    /// Orbit the target about +y at `deg_per_s`, keeping distance and height.
+    Orbit { deg_per_s: f32 },
+    /// Linear interpolation between keyframes (clamped at the ends).
+    Keys(Vec<Key>),
+}
+
+/// One keyframe: `Key(time_s: 0.0, position: (..), target: (..))`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Key {
+    pub time_s: f32,
+    pub position: (f32, f32, f32),
+    pub target: (f32, f32, f32),
+}
+
+impl CameraPath {
+    /// Parses `orbit:DEG_PER_S` or `keys:FILE.ron` (a list of `Key`s).
+    pub fn parse(arg: &str) -> Result<CameraPath, UserError> {
+        if let Some(rate) = arg.strip_prefix("orbit:") {
+            let deg_per_s: f32 = rate
+                .trim()
+                .parse()
+                .ok()
+                .filter(|r: &f32| r.is_finite())
+                .ok_or_else(|| UserError::new(format!("--camera-path orbit:{rate}: give degrees per second, e.g. orbit:30")))?;
+            return Ok(CameraPath::Orbit { deg_per_s });
+        }
+        if let Some(file) = arg.strip_prefix("keys:") {
+            let path = Path::new(file);
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| UserError::in_file(path, format!("cannot read the camera path: {e}")))?;
+            let keys: Vec<Key> = ron::Options::default().from_str(&text).map_err(|e| ron_error(path, &e))?;
+            let finite = |v: (f32, f32, f32)| v.0.is_finite() && v.1.is_finite() && v.2.is_finite();
+            if keys.is_empty() || keys.iter().any(|k| !k.time_s.is_finite() || !finite(k.position) || !finite(k.target)) {
+                return Err(UserError::in_file(path, "a camera path needs at least one key, all numbers finite"));
+            }
+            if keys.windows(2).any(|w| w[1].time_s <= w[0].time_s) {
+                return Err(UserError::in_file(path, "camera keys must be in strictly increasing time_s"));
+            }
+            return Ok(CameraPath::Keys(keys));
+        }
+        Err(UserError::new(format!("--camera-path `{arg}`: write orbit:DEG_PER_S or keys:FILE.ron")))
+    }
+
+    /// The camera at time `t`, starting from the scene's camera.
+    pub fn at(&self, base: &Camera, t: f32) -> Camera {
+        match self {
+            CameraPath::Orbit { deg_per_s } => {
+                let rot = Quat::from_rotation_y((deg_per_s * t).to_radians());
+                Camera { position: base.target + rot * (base.position - base.target), ..*base }
+            }
+            CameraPath::Keys(keys) => {
+                let v = |p: (f32, f32, f32)| Vec3::new(p.0, p.1, p.2);
+                let i = keys.iter().rposition(|k| k.time_s <= t).unwrap_or(0);
+                let (a, b) = (keys[i], keys[(i + 1).min(keys.len() - 1)]);
+                let s = if b.time_s > a.time_s { ((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0) } else { 0.0 };
+                Camera {
+                    position: v(a.position).lerp(v(b.position), s),
+                    target: v(a.target).lerp(v(b.target), s),
+                    ..*base
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn base() -> Camera {
+        Camera { position: Vec3::new(0.0, 1.0, 3.0), target: Vec3::ZERO, up: Vec3::Y, vfov_deg: 40.0 }
+    }
+
+    #[test]
+    fn orbit_keeps_distance_and_height() {
+        let p = CameraPath::parse("orbit:90").unwrap();
+        let c = p.at(&base(), 1.0);
+        assert!((c.position - Vec3::new(3.0, 1.0, 0.0)).length() < 1e-5, "{:?}", c.position);
+        assert_eq!(p.at(&base(), 0.0).position, base().position);
+    }
+
+    #[test]
+    fn keys_interpolate_and_clamp() {
+        let dir = std::env::temp_dir().join(format!("glint-cam-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("path.ron");
+        std::fs::write(&file, "[Key(time_s: 0.0, position: (0.0, 0.0, 4.0), target: (0.0, 0.0, 0.0)),\n Key(time_s: 2.0, position: (2.0, 0.0, 4.0), target: (1.0, 0.0, 0.0))]").unwrap();
+        let p = CameraPath::parse(&format!("keys:{}", file.display())).unwrap();
+        assert!((p.at(&base(), 1.0).position - Vec3::new(1.0, 0.0, 4.0)).length() < 1e-6);
+        assert_eq!(p.at(&base(), 5.0).target, Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(p.at(&base(), -1.0).position, Vec3::new(0.0, 0.0, 4.0));
+        std::fs::write(&file, "[Key(time_s: 1.0, position: (0.0, 0.0, 4.0), target: (0.0, 0.0, 0.0)),\n Key(time_s: 1.0, position: (2.0, 0.0, 4.0), target: (1.0, 0.0, 0.0))]").unwrap();
+        assert!(CameraPath::parse(&format!("keys:{}", file.display())).unwrap_err().to_string().contains("increasing"));
+        std::fs::write(&file, "[Key(time_s: 0.0, position: (0.0, 0.0), target: (0.0, 0.0, 0.0))]").unwrap();
+        assert!(CameraPath::parse(&format!("keys:{}", file.display())).unwrap_err().to_string().contains("path.ron:1"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn bad_arguments_are_refused() {
+        assert!(CameraPath::parse("orbit:fast").is_err());
+        assert!(CameraPath::parse("orbit:NaN").is_err());
+        assert!(CameraPath::parse("spiral:3").is_err());
+        assert!(CameraPath::parse("keys:/nonexistent/x.ron").is_err());
+    }
+}
