@@ -6,7 +6,6 @@
 // Falloff 0 is physical (inverse square); 1 is the thesis's exponential,
 // exp(-falloff_k d) in place of 1/d^2.
 #import lights
-#import rng
 
 override SPHERE_MODE: u32 = 2u;
 override POINT_LIGHTS: bool = true;
@@ -26,14 +25,6 @@ struct Params {
 @group(0) @binding(6) var lit: texture_storage_2d<rgba32float, write>;
 
 const SALT: u32 = 0x6c696768u;
-
-// Replaces the physical 1/d^2 with the thesis's exponential when asked.
-fn falloff_scale(d: f32) -> f32 {
-    if params.falloff == 1u {
-        return d * d * exp(-params.falloff_k * d);
-    }
-    return 1.0;
-}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -70,16 +61,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             }
         }
         let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
-        var sum = vec3f(0.0);
-        for (var k = 0u; k < count; k++) {
-            let s = sample_light(l, o, rand2(&rng));
-            let cos_n = dot(n, s.dir);
-            if !s.valid || cos_n <= 0.0 || !light_visible(o, s) {
-                continue;
-            }
-            sum += s.weight * cos_n * falloff_scale(length(l.position - p));
-        }
-        irradiance += sum / f32(count);
+        irradiance += light_irradiance(l, p, n, o, count, params.falloff, params.falloff_k, &rng);
     }
     let radiance = finite_or_zero(base / PI * irradiance);
     textureStore(lit, id.xy, vec4f(before.rgb + radiance, 1.0));

@@ -1,5 +1,6 @@
 // Light sampling shared by the lights pass and the path tracer.
 #import intersect
+#import rng
 #import sampling
 
 struct LightSample {
@@ -59,4 +60,28 @@ fn light_pdf(l: Light, p: vec3f) -> f32 {
 // Whether the light sample is visible from the offset origin `o`.
 fn light_visible(o: vec3f, s: LightSample) -> bool {
     return !trace_any(o, s.dir, s.dist * (1.0 - 1e-4));
+}
+
+// Replaces the physical 1/d^2 with the thesis's exponential when falloff
+// is 1: exp(-k d) in its place.
+fn falloff_scale(falloff: u32, k: f32, d: f32) -> f32 {
+    if falloff == 1u {
+        return d * d * exp(-k * d);
+    }
+    return 1.0;
+}
+
+// The mean over `count` samples of L cos / pdf (or I cos / d^2) from light
+// l at surface point p with normal n; o is p offset off the surface.
+fn light_irradiance(l: Light, p: vec3f, n: vec3f, o: vec3f, count: u32, falloff: u32, falloff_k: f32, rng: ptr<function, Rng>) -> vec3f {
+    var sum = vec3f(0.0);
+    for (var k = 0u; k < count; k++) {
+        let s = sample_light(l, o, rand2(rng));
+        let cos_n = dot(n, s.dir);
+        if !s.valid || cos_n <= 0.0 || !light_visible(o, s) {
+            continue;
+        }
+        sum += s.weight * cos_n * falloff_scale(falloff, falloff_k, length(l.position - p));
+    }
+    return sum / f32(max(count, 1u));
 }
