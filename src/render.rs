@@ -14,6 +14,10 @@ use crate::graph::executor::{Executor, Timing};
 use crate::graph::CompiledGraph;
 use crate::scene::Scene;
 
+/// The noise-mask threshold without a frame-time target (and the PID's
+/// starting point): masks the strongest noise of a one-sample frame.
+pub const DEFAULT_MASK_THRESHOLD: f32 = 0.1;
+
 pub struct Renderer {
     pub scene: Scene,
     pub buffers: SceneBuffers,
@@ -24,6 +28,8 @@ pub struct Renderer {
     frame_buffer: wgpu::Buffer,
     pub size: (u32, u32),
     pub seed: u32,
+    /// Written into the frame uniform; the PID controller moves it.
+    pub mask_threshold: f32,
     frame_index: u32,
     accum_count: u32,
     last: Option<(CameraGpu, u32)>,
@@ -83,7 +89,7 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let executor = Executor::new(gpu, graph, &frame_buffer, &buffers, size)?;
-        Ok(Renderer { scene, buffers, bvh, bvh_stats, executor, frame_buffer, size, seed, frame_index: 0, accum_count: 0, last: None })
+        Ok(Renderer { scene, buffers, bvh, bvh_stats, executor, frame_buffer, size, seed, mask_threshold: DEFAULT_MASK_THRESHOLD, frame_index: 0, accum_count: 0, last: None })
     }
 
     /// Renders one frame at absolute time `time` seconds. When timed, waits
@@ -119,7 +125,7 @@ impl Renderer {
             n_instances: data.instances.len() as u32,
             n_triangles: data.triangles.len() as u32,
             n_lights: data.lights.len() as u32,
-            _pad0: 0,
+            mask_threshold: self.mask_threshold,
             background: data.background,
             _pad1: 0.0,
         };

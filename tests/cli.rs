@@ -37,6 +37,18 @@ fn graph_check_shows_the_schedule_with_area_light_work_culled() {
 }
 
 #[test]
+fn hybrid_graph_drops_the_mask_passes_without_area_lights() {
+    let (code, out, err) = glint(&["graph", "check", "passes/hybrid.ron", "--scene", "scenes/cornell-point.ron"]);
+    assert_eq!(code, 0, "{err}");
+    for pass in ["sobel", "blur_h", "blur_v", "threshold", "refine", "lights_area"] {
+        assert!(out.contains(&format!("{pass}: requires AreaLights; the scene has none")), "{pass} not culled:\n{out}");
+    }
+    let (code, out, _) = glint(&["graph", "check", "passes/hybrid.ron", "--scene", "scenes/cornell.ron"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("lights_point: requires PointLights") && out.contains("refine (refine.wgsl"), "{out}");
+}
+
+#[test]
 fn malformed_scene_names_file_and_line() {
     let dir = scratch("cli-scene");
     let scene = write(&dir, "bad.ron", "Scene(\n  camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),\n  objects: [ Sphere(center: (0.0, 0.0, 0.0) radius: 1.0, material: \"w\") ],\n)\n");

@@ -33,6 +33,8 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             }
             // Distances (inf on a miss), occlusion and bounce distances.
             "bench_out" => *p = [p[0] / 8.0, p[1], p[2] / 8.0, 1.0],
+            // Edge strengths and the mask: one channel shown grey.
+            "edges" | "edges_h" | "edges_blur" | "mask" => *p = [p[0], p[0], p[0], 1.0],
             _ => {}
         }
     }
@@ -117,6 +119,8 @@ fn golden_images_of_every_pass() {
         ("direct.ron", "moving-lights.ron"),
         ("pathtrace.ron", "cornell.ron"),
         ("bench-rays.ron", "cornell.ron"),
+        ("hybrid.ron", "cornell.ron"),
+        ("hybrid.ron", "cornell-point.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }

@@ -51,7 +51,7 @@ fn wgsl_structs_match_rust() {
         }};
     }
     check!("Camera", CameraGpu, [origin, tan_half_fov, right, aspect, up, forward]);
-    check!("Frame", FrameGpu, [camera, prev_camera, size, frame_index, accum_count, time, seed, scene_epoch, n_spheres, n_instances, n_triangles, n_lights, background]);
+    check!("Frame", FrameGpu, [camera, prev_camera, size, frame_index, accum_count, time, seed, scene_epoch, n_spheres, n_instances, n_triangles, n_lights, mask_threshold, background]);
     check!("Sphere", SphereGpu, [center, radius, material, light, object]);
     check!("Triangle", TriangleGpu, [p0, material, p1, object, p2]);
     check!("TriangleNormals", TriangleNormalsGpu, [n0, n1, n2]);

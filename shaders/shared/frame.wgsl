@@ -24,7 +24,8 @@ struct Frame {
     n_instances: u32,
     n_triangles: u32,
     n_lights: u32,
-    _pad0: u32,
+    // The noise-mask threshold from the PID controller (threshold.wgsl).
+    mask_threshold: f32,
     background: vec3f,
     _pad1: f32,
 }

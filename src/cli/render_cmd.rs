@@ -12,7 +12,8 @@ use crate::graph::executor::Timing;
 use crate::graph::{self, CompileOptions};
 use crate::machines::{DeviceType, Machines};
 use crate::metrics::median;
-use crate::render::{check_size, Renderer};
+use crate::control::{Pid, PidConfig};
+use crate::render::{check_size, Renderer, DEFAULT_MASK_THRESHOLD};
 use crate::{image_io, scene};
 
 #[derive(Args, Debug)]
@@ -41,6 +42,10 @@ pub struct RenderArgs {
     /// Write this graph resource instead of the graph's output (debugging).
     #[arg(long)]
     pub output: Option<String>,
+    /// Frame-time target in ms: a PID controller then drives the noise-mask
+    /// threshold from the measured frame time (graphs with a mask).
+    #[arg(long)]
+    pub target_ms: Option<f64>,
     /// Move the camera: orbit:DEG_PER_S, or keys:FILE.ron with
     /// [Key(time_s, position, target), ...]; evaluated at each frame's time
     /// (--time + --dt * frame).
@@ -100,6 +105,11 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let timing = Timing::for_adapter(&gpu);
+    let mut pid = match args.target_ms {
+        Some(t) if t.is_finite() && t > 0.0 => Some((t, Pid::new(PidConfig::frame_time(), f64::from(DEFAULT_MASK_THRESHOLD)))),
+        Some(t) => return Err(UserError::new(format!("--target-ms {t}: give a positive number of milliseconds"))),
+        None => None,
+    };
     let start = Instant::now();
     let mut frame_ms = Vec::new();
     let mut pass_ms: Vec<Vec<f64>> = vec![Vec::new(); renderer.executor.pass_names().len()];
@@ -110,7 +120,11 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
             renderer.scene.camera = path.at(&base_camera, time);
         }
         let ms = renderer.frame(&gpu, time, timing)?;
-        frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        let ms_wall = t0.elapsed().as_secs_f64() * 1e3;
+        frame_ms.push(ms_wall);
+        if let Some((target, pid)) = &mut pid {
+            renderer.mask_threshold = pid.update(*target, ms_wall, ms_wall / 1e3) as f32;
+        }
         if let Some(ms) = ms {
             for (acc, m) in pass_ms.iter_mut().zip(ms) {
                 acc.push(m);
@@ -145,6 +159,9 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
         if !ms.is_empty() {
             println!("  {name:<16} {:8.3} ms (median)", median(ms));
         }
+    }
+    if pid.is_some() {
+        println!("  mask threshold (PID): {:.4}", renderer.mask_threshold);
     }
     let mem = compiled.schedule.memory(args.size);
     println!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);

@@ -65,7 +65,8 @@ pub struct FrameGpu {
     pub n_instances: u32,
     pub n_triangles: u32,
     pub n_lights: u32,
-    pub _pad0: u32,
+    /// The noise-mask threshold (PID output when a target is set).
+    pub mask_threshold: f32,
     pub background: [f32; 3],
     pub _pad1: f32,
 }

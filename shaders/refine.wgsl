@@ -1,0 +1,54 @@
+// Refinement (thesis 4.2.2): pixels in the noise mask take `samples` more
+// samples of every sphere light and merge them with the frame's estimate
+// (made with `base_samples` per light) by sample count.
+#import lights
+
+struct Params {
+    samples: u32,
+    base_samples: u32,
+    falloff: u32,
+    falloff_k: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var mask: texture_2d<f32>;
+@group(0) @binding(2) var gbuf_pos: texture_2d<f32>;
+@group(0) @binding(3) var gbuf_normal: texture_2d<f32>;
+@group(0) @binding(4) var gbuf_id: texture_2d<u32>;
+@group(0) @binding(5) var albedo: texture_2d<f32>;
+@group(0) @binding(6) var lit_in: texture_2d<f32>;
+@group(0) @binding(7) var lit: texture_storage_2d<rgba32float, write>;
+
+const SALT: u32 = 0x72656669u;
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let before = textureLoad(lit_in, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy, 0);
+    if textureLoad(mask, id.xy, 0).x < 0.5 || ids.y == 0xffffffffu || is_emissive(scene_materials[ids.x]) {
+        textureStore(lit, id.xy, before);
+        return;
+    }
+    let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
+    let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - scene_materials[ids.x].specular);
+    let o = offset_ray(p, n);
+    var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
+    var direct = vec3f(0.0);
+    for (var i = 0u; i < frame.n_lights; i++) {
+        let l = scene_lights[i];
+        if l.kind == LIGHT_SPHERE {
+            direct += light_irradiance(l, p, n, o, max(params.samples, 1u), params.falloff, params.falloff_k, &rng);
+        }
+    }
+    let extra = finite_or_zero(base / PI * direct);
+    // `before` must hold only the sphere-light estimate (the graph runs
+    // refine right after the area-light pass, before point lights are
+    // added), so merging by sample count is exact.
+    let n0 = f32(max(params.base_samples, 1u));
+    let n1 = f32(max(params.samples, 1u));
+    textureStore(lit, id.xy, vec4f((before.rgb * n0 + extra * n1) / (n0 + n1), 1.0));
+}
