@@ -35,6 +35,11 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             "bench_out" => *p = [p[0] / 8.0, p[1], p[2] / 8.0, 1.0],
             // Edge strengths and the mask: one channel shown grey.
             "edges" | "edges_h" | "edges_blur" | "mask" => *p = [p[0], p[0], p[0], 1.0],
+            // -1 not specular (black), 0 shaded (grey), 1 reused (white).
+            "reflect_reuse" => {
+                let v = (p[0] + 1.0) * 0.5;
+                *p = [v, v, v, 1.0];
+            }
             _ => {}
         }
     }

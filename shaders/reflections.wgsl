@@ -1,0 +1,121 @@
+// Reflections (thesis 4.2.1): specular surfaces bounce the view ray by the
+// law of reflection and add what they see, weighted by a running specular
+// attenuation, up to `max_depth` bounces (the roughness term is dropped, as
+// in the thesis). When a reflected hit is on screen and the G-buffer there
+// holds the same object with the same normal, its already lit colour is
+// reused (`reuse` 1) instead of shading it again; otherwise the hit is
+// shaded with `samples` samples per sphere light and the point lights.
+// `reflect_reuse` records per pixel: 1 reused, 0 shaded, -1 not specular.
+#import lights
+
+struct Params {
+    max_depth: u32,
+    samples: u32,
+    reuse: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var gbuf_pos: texture_2d<f32>;
+@group(0) @binding(2) var gbuf_normal: texture_2d<f32>;
+@group(0) @binding(3) var gbuf_id: texture_2d<u32>;
+@group(0) @binding(4) var lit_in: texture_2d<f32>;
+@group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var reflect_reuse: texture_storage_2d<r32float, write>;
+
+const SALT: u32 = 0x7265666cu;
+
+// The pixel showing world point x, or (-1, -1) when off screen.
+fn project(x: vec3f) -> vec2i {
+    let cam = frame.camera;
+    let v = x - cam.origin;
+    let z = dot(v, cam.forward);
+    if z <= 0.0 {
+        return vec2i(-1);
+    }
+    let sx = dot(v, cam.right) / (z * cam.tan_half_fov * cam.aspect);
+    let sy = dot(v, cam.up) / (z * cam.tan_half_fov);
+    let px = vec2f((sx + 1.0) * 0.5, (1.0 - sy) * 0.5) * vec2f(frame.size);
+    if any(px < vec2f(0.0)) || any(px >= vec2f(frame.size)) {
+        return vec2i(-1);
+    }
+    return vec2i(px);
+}
+
+// Direct light at a hit (diffuse share), as the lights pass computes it.
+fn shade(p: vec3f, n: vec3f, m: Material, rng: ptr<function, Rng>) -> vec3f {
+    let o = offset_ray(p, n);
+    var e = vec3f(0.0);
+    for (var i = 0u; i < frame.n_lights; i++) {
+        let l = scene_lights[i];
+        let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
+        e += light_irradiance(l, p, n, o, count, 0u, 0.0, rng);
+    }
+    return finite_or_zero(m.albedo * (1.0 - m.specular) / PI * e);
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let before = textureLoad(lit_in, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy, 0);
+    if ids.y == 0xffffffffu || scene_materials[ids.x].specular <= 0.0 || is_emissive(scene_materials[ids.x]) {
+        textureStore(lit, id.xy, before);
+        textureStore(reflect_reuse, id.xy, vec4f(-1.0, 0.0, 0.0, 1.0));
+        return;
+    }
+    var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
+    let m0 = scene_materials[ids.x];
+    var p = textureLoad(gbuf_pos, id.xy, 0).xyz;
+    var n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
+    var dir = reflect(normalize(p - frame.camera.origin), n);
+    var atten = m0.specular * m0.albedo;
+    var color = before.rgb;
+    var reused = 0.0;
+    for (var depth = 0u; depth < params.max_depth; depth++) {
+        let hit = trace_closest(offset_ray(p, n), dir, 3.0e38);
+        if !hit_found(hit) {
+            color += atten * frame.background;
+            break;
+        }
+        let m = scene_materials[hit.material];
+        if is_emissive(m) {
+            color += atten * m.emission;
+            break;
+        }
+        var hn = hit.normal;
+        if dot(hn, dir) > 0.0 {
+            hn = -hn;
+        }
+        var diffuse = vec3f(0.0);
+        var from_screen = false;
+        if params.reuse == 1u {
+            let q = project(hit.position);
+            if q.x >= 0 {
+                let qid = textureLoad(gbuf_id, q, 0);
+                let qn = textureLoad(gbuf_normal, q, 0).xyz;
+                if qid.y == hit.object && dot(qn, hn) > 0.95 {
+                    diffuse = textureLoad(lit_in, q, 0).rgb;
+                    from_screen = true;
+                }
+            }
+        }
+        if !from_screen {
+            diffuse = shade(hit.position, hn, m, &rng);
+        }
+        if depth == 0u {
+            reused = select(0.0, 1.0, from_screen);
+        }
+        color += atten * diffuse;
+        if m.specular <= 0.0 {
+            break;
+        }
+        atten *= m.specular * m.albedo;
+        p = hit.position;
+        n = hn;
+        dir = reflect(dir, hn);
+    }
+    textureStore(lit, id.xy, vec4f(finite_or_zero(color), 1.0));
+    textureStore(reflect_reuse, id.xy, vec4f(reused, 0.0, 0.0, 1.0));
+}
