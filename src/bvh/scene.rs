@@ -71,7 +71,6 @@ impl SceneBvh {
         let mut stats = BuildStats { triangles: data.triangles.len(), ..Default::default() };
         let blas_start = Instant::now();
         self.cache.resize_with(data.meshes.len(), || None);
-        let mut blas_nodes: Vec<Vec<BvhNode>> = Vec::with_capacity(data.meshes.len());
         for (m, mesh) in data.meshes.iter().enumerate() {
             let range = mesh.first as usize..(mesh.first + mesh.count) as usize;
             let input = &data.triangles[range.clone()];
@@ -102,9 +101,11 @@ impl SceneBvh {
                     *dst = *src;
                 }
             }
-            blas_nodes.push(c.bvh.nodes.clone());
         }
         stats.blas_ms = blas_start.elapsed().as_secs_f64() * 1e3;
+        // Borrowed, not cloned: this runs every frame something moves.
+        let blas_nodes: Vec<&[BvhNode]> =
+            self.cache.iter().map(|c| c.as_ref().map_or(&[][..], |c| c.bvh.nodes.as_slice())).collect();
 
         // TLAS over meshes and spheres.
         let tlas_start = Instant::now();
@@ -148,16 +149,13 @@ impl SceneBvh {
             nodes[0].count = TLAS_LEAF; // an empty scene: a leaf with nothing
         }
         stats.tlas_ms = tlas_start.elapsed().as_secs_f64() * 1e3;
-        for (m, mut blas) in blas_nodes.into_iter().enumerate() {
+        for (m, blas) in blas_nodes.iter().enumerate() {
             let (base, first_tri) = (roots[m], data.meshes[m].first);
-            for n in &mut blas {
-                if n.count > 0 {
-                    n.left_first += first_tri;
-                } else {
-                    n.left_first += base;
-                }
-            }
-            nodes.extend(blas);
+            nodes.extend(blas.iter().map(|n| {
+                let mut n = *n;
+                n.left_first += if n.count > 0 { first_tri } else { base };
+                n
+            }));
         }
         data.bvh = nodes;
         stats
