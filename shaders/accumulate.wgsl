@@ -1,23 +1,138 @@
-// Progressive accumulation: the running mean of `src` over the frames
-// since the last reset. The engine resets (accum_count = 0) when the
-// scene epoch or the camera changes. `accum_prev` is last frame's result.
+// Progressive accumulation: a per-pixel running mean of `src`.
+//   mode 0 (the thesis): the history is dropped whenever the camera or the
+//          scene changes (frame.accum_count = 0).
+//   mode 1: the history survives camera motion. Each pixel's G-buffer hit is
+//          projected with last frame's camera; the four history texels
+//          around where this pixel's centre was are blended bilinearly,
+//          keeping only those whose stored hit lies on this pixel's surface
+//          plane (within depth_tol of the distance) with a normal within
+//          normal_cos; disocclusions start over, and so do specular
+//          surfaces (gbuf_normal.w > 0: what they show depends on the
+//          view, so their history is wrong once it moves). A scene change (moving
+//          lights or objects, frame.epoch_frames = 0) still drops it all.
+// `geo` keeps what the next frame checks against: the octahedral normal,
+// the hit distance (-1 on a miss) and the pixel's sample count.
+// max_history > 0 caps the count (an exponential average past it).
 #import frame
 
-@group(0) @binding(0) var src: texture_2d<f32>;
-@group(0) @binding(1) var accum_prev: texture_2d<f32>;
-@group(0) @binding(2) var accum: texture_storage_2d<rgba32float, write>;
+struct Params {
+    mode: u32,
+    depth_tol: f32,
+    normal_cos: f32,
+    max_history: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var src: texture_2d<f32>;
+@group(0) @binding(2) var accum_prev: texture_2d<f32>;
+@group(0) @binding(3) var accum: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(4) var gbuf_pos: texture_2d<f32>;
+@group(0) @binding(5) var gbuf_normal: texture_2d<f32>;
+@group(0) @binding(6) var geo_prev: texture_2d<f32>;
+@group(0) @binding(7) var geo: texture_storage_2d<rgba32float, write>;
+
+fn oct_encode(n: vec3f) -> vec2f {
+    let l1 = abs(n.x) + abs(n.y) + abs(n.z);
+    if l1 == 0.0 {
+        return vec2f(0.0);
+    }
+    var p = n.xy / l1;
+    if n.z < 0.0 {
+        p = (1.0 - abs(p.yx)) * select(vec2f(-1.0), vec2f(1.0), p >= vec2f(0.0));
+    }
+    return p;
+}
+
+fn oct_decode(p: vec2f) -> vec3f {
+    var n = vec3f(p, 1.0 - abs(p.x) - abs(p.y));
+    if n.z < 0.0 {
+        n = vec3f((1.0 - abs(n.yx)) * select(vec2f(-1.0), vec2f(1.0), n.xy >= vec2f(0.0)), n.z);
+    }
+    let l = length(n);
+    return select(n / l, vec3f(0.0), l == 0.0);
+}
+
+// Whether history texel `q` saw the same surface as this pixel's hit `p`
+// (normal `n`), or, for a miss, also a miss.
+fn agrees(q: vec2i, p: vec3f, n: vec3f, miss: bool) -> bool {
+    let g = textureLoad(geo_prev, q, 0);
+    if miss || g.z < 0.0 {
+        return miss && g.z < 0.0;
+    }
+    if dot(oct_decode(g.xy), n) < params.normal_cos {
+        return false;
+    }
+    // The texel's hit, rebuilt through its centre (its jitter is unknown;
+    // the error lies along the surface, not across it).
+    let q_pos = frame.prev_camera.origin + g.z * camera_dir(frame.prev_camera, vec2u(q), vec2f(0.5));
+    return abs(dot(q_pos - p, n)) <= params.depth_tol * length(p - frame.prev_camera.origin);
+}
+
+// Last frame's mean (rgb) and sample count (a) at this pixel, or zero.
+fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> vec4f {
+    let miss = g.w < 0.0;
+    // A miss is projected as a direction (a point at infinity).
+    let now = project(frame.camera, select(g.xyz, frame.camera.origin + g.xyz, miss));
+    let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
+    if then.z <= 0.0 {
+        return vec4f(0.0);
+    }
+    let motion = then.xy - now.xy;
+    let still = all(motion == vec2f(0.0));
+    if view_dependent && !still {
+        return vec4f(0.0);
+    }
+    // Texel centres sit at i + 0.5: bilinear taps around the old centre.
+    let base = vec2f(pixel) + motion;
+    let i0 = vec2i(floor(base));
+    let f = base - floor(base);
+    let size = vec2i(frame.size);
+    var sum = vec4f(0.0);
+    var weight = 0.0;
+    for (var k = 0; k < 4; k++) {
+        let d = vec2i(k & 1, k >> 1);
+        let q = i0 + d;
+        let w = select(1.0 - f.x, f.x, d.x == 1) * select(1.0 - f.y, f.y, d.y == 1);
+        if w <= 0.0 || any(q < vec2i(0)) || any(q >= size) {
+            continue;
+        }
+        // A still camera sees the same footprint: no test needed (it would
+        // otherwise reject silhouette pixels whose jittered samples differ).
+        if !still && !agrees(q, g.xyz, n, miss) {
+            continue;
+        }
+        let count = textureLoad(geo_prev, q, 0).w;
+        sum += w * vec4f(textureLoad(accum_prev, q, 0).rgb, count);
+        weight += w;
+    }
+    if weight < 1e-3 {
+        return vec4f(0.0);
+    }
+    return sum / weight;
+}
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let x = textureLoad(src, id.xy, 0);
-    if frame.accum_count == 0u {
-        textureStore(accum, id.xy, vec4f(x.rgb, 1.0));
-        return;
+    let x = textureLoad(src, id.xy, 0).rgb;
+    let g = textureLoad(gbuf_pos, id.xy, 0);
+    let nw = textureLoad(gbuf_normal, id.xy, 0);
+    let n = nw.xyz;
+    var history = vec4f(0.0);
+    if params.mode == 0u {
+        if frame.accum_count > 0u {
+            history = vec4f(textureLoad(accum_prev, id.xy, 0).rgb, f32(frame.accum_count));
+        }
+    } else if frame.epoch_frames > 0u {
+        history = reprojected(id.xy, g, n, nw.w > 0.0);
     }
-    let prev = textureLoad(accum_prev, id.xy, 0);
-    let n = f32(frame.accum_count);
-    textureStore(accum, id.xy, vec4f(prev.rgb + (x.rgb - prev.rgb) / (n + 1.0), 1.0));
+    var count = history.a;
+    if params.max_history > 0.0 {
+        count = min(count, params.max_history);
+    }
+    let mean = history.rgb + (x - history.rgb) / (count + 1.0);
+    textureStore(accum, id.xy, vec4f(mean, 1.0));
+    textureStore(geo, id.xy, vec4f(oct_encode(n), select(g.w, -1.0, g.w < 0.0), count + 1.0));
 }

@@ -1,6 +1,6 @@
 // G-buffer: one primary ray per pixel (jittered per frame when `jitter` is
 // 1, for accumulation). Writes hit position and distance, the shading
-// normal faced toward the camera, and (material, object) ids.
+// normal faced toward the camera (w: the material's specular share), and (material, object) ids.
 // A miss stores distance -1 and the ray direction in xyz, object NO_HIT.
 #import intersect
 #import rng
@@ -42,6 +42,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         n = hit.geo_normal * flip;
     }
     textureStore(gbuf_pos, id.xy, vec4f(hit.position, hit.t));
-    textureStore(gbuf_normal, id.xy, vec4f(n, 0.0));
+    // w: the specular share, so accumulate knows what is view-dependent.
+    textureStore(gbuf_normal, id.xy, vec4f(n, scene_materials[hit.material].specular));
     textureStore(gbuf_id, id.xy, vec4u(hit.material, hit.object, 0u, 0u));
 }

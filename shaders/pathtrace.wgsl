@@ -15,6 +15,14 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, write>;
+// The camera ray's first hit, as the G-buffer stores it (for reprojection
+// in accumulate): position and distance (direction and -1 on a miss), and
+// the normal facing the camera with the specular share in w.
+@group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, write>;
+
+var<private> primary_pos: vec4f;
+var<private> primary_normal: vec4f;
 
 const SALT: u32 = 0x70617468u;
 
@@ -34,6 +42,11 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
     var prev_p = ro;
     for (var depth = 0u; depth < params.max_depth; depth++) {
         let hit = trace_closest(ro, rd, 3.0e38);
+        if depth == 0u {
+            primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
+            let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
+            primary_normal = select(vec4f(facing, scene_materials[hit.material].specular), vec4f(0.0), !hit_found(hit));
+        }
         if !hit_found(hit) {
             result += throughput * frame.background;
             break;
@@ -118,4 +131,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         sum += trace_path(frame.camera.origin, rd, &rng);
     }
     textureStore(radiance, id.xy, vec4f(sum / f32(spp), 1.0));
+    textureStore(gbuf_pos, id.xy, primary_pos);
+    textureStore(gbuf_normal, id.xy, primary_normal);
 }

@@ -25,20 +25,12 @@ struct Params {
 const SALT: u32 = 0x7265666cu;
 
 // The pixel showing world point x, or (-1, -1) when off screen.
-fn project(x: vec3f) -> vec2i {
-    let cam = frame.camera;
-    let v = x - cam.origin;
-    let z = dot(v, cam.forward);
-    if z <= 0.0 {
+fn screen_pixel(x: vec3f) -> vec2i {
+    let px = project(frame.camera, x);
+    if px.z <= 0.0 || any(px.xy < vec2f(0.0)) || any(px.xy >= vec2f(frame.size)) {
         return vec2i(-1);
     }
-    let sx = dot(v, cam.right) / (z * cam.tan_half_fov * cam.aspect);
-    let sy = dot(v, cam.up) / (z * cam.tan_half_fov);
-    let px = vec2f((sx + 1.0) * 0.5, (1.0 - sy) * 0.5) * vec2f(frame.size);
-    if any(px < vec2f(0.0)) || any(px >= vec2f(frame.size)) {
-        return vec2i(-1);
-    }
-    return vec2i(px);
+    return vec2i(px.xy);
 }
 
 // Direct light at a hit (diffuse share), as the lights pass computes it.
@@ -91,7 +83,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         var diffuse = vec3f(0.0);
         var from_screen = false;
         if params.reuse == 1u {
-            let q = project(hit.position);
+            let q = screen_pixel(hit.position);
             if q.x >= 0 {
                 let qid = textureLoad(gbuf_id, q, 0);
                 let qn = textureLoad(gbuf_normal, q, 0).xyz;

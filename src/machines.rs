@@ -75,7 +75,11 @@ mod tests {
     fn shipped_profiles_parse_and_pick() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/machines.ron");
         let m = Machines::load(&path).expect("machines.ron parses");
-        assert_eq!(m.pick(DeviceType::Cpu, "llvmpipe (LLVM 15)").graph, "direct.ron");
+        assert_eq!(m.pick(DeviceType::Cpu, "llvmpipe (LLVM 15)").graph, "hybrid-point.ron");
+        assert_eq!(m.pick(DeviceType::DiscreteGpu, "NVIDIA H100").graph, "hybrid.ron");
+        for p in m.profiles.iter().chain([&m.default]) {
+            assert!(Path::new(env!("CARGO_MANIFEST_DIR")).join("passes").join(&p.graph).is_file(), "{} names a missing graph", p.name);
+        }
         assert_eq!(m.pick(DeviceType::Other, "x").name, "default");
     }
 }

@@ -32,6 +32,7 @@ pub struct Renderer {
     pub mask_threshold: f32,
     frame_index: u32,
     accum_count: u32,
+    epoch_frames: u32,
     last: Option<(CameraGpu, u32)>,
 }
 
@@ -89,7 +90,7 @@ impl Renderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let executor = Executor::new(gpu, graph, &frame_buffer, &buffers, size)?;
-        Ok(Renderer { scene, buffers, bvh, bvh_stats, executor, frame_buffer, size, seed, mask_threshold: DEFAULT_MASK_THRESHOLD, frame_index: 0, accum_count: 0, last: None })
+        Ok(Renderer { scene, buffers, bvh, bvh_stats, executor, frame_buffer, size, seed, mask_threshold: DEFAULT_MASK_THRESHOLD, frame_index: 0, accum_count: 0, epoch_frames: 0, last: None })
     }
 
     /// Renders one frame at absolute time `time` seconds. When timed, waits
@@ -106,6 +107,9 @@ impl Renderer {
             Some((c, e)) => {
                 if c != camera || e != epoch {
                     self.accum_count = 0;
+                }
+                if e != epoch {
+                    self.epoch_frames = 0;
                 }
                 c
             }
@@ -127,14 +131,21 @@ impl Renderer {
             n_lights: data.lights.len() as u32,
             mask_threshold: self.mask_threshold,
             background: data.background,
-            _pad1: 0.0,
+            epoch_frames: self.epoch_frames,
         };
         gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let ms = self.executor.run_frame(gpu, timing)?;
         self.last = Some((camera, epoch));
         self.frame_index = self.frame_index.wrapping_add(1);
         self.accum_count = self.accum_count.saturating_add(1);
+        self.epoch_frames = self.epoch_frames.saturating_add(1);
         Ok(ms)
+    }
+
+    /// Drops all accumulated history (as a scene change would).
+    pub fn reset_accumulation(&mut self) {
+        self.accum_count = 0;
+        self.epoch_frames = 0;
     }
 
     pub fn read_output(&self, gpu: &Gpu) -> Result<ImageF32, UserError> {

@@ -117,3 +117,28 @@ fn missing_obj_is_a_clear_error() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("obj.ron:4") && err.contains("nowhere.obj"), "{err}");
 }
+
+#[test]
+fn graph_edits_from_the_command_line() {
+    // Skipping refine leaves the mask passes feeding nothing: culled.
+    let (code, out, err) = glint(&["graph", "check", "passes/hybrid.ron", "--scene", "scenes/cornell.ron", "--skip", "refine"]);
+    assert_eq!(code, 0, "{err}");
+    let culled = out.split("culled:").nth(1).unwrap_or_default();
+    for pass in ["sobel", "blur_h", "blur_v", "threshold"] {
+        assert!(culled.contains(&format!("{pass}:")), "{pass} not culled:\n{out}");
+    }
+    assert!(!out.contains("refine (refine.wgsl"), "{out}");
+    let (code, out, err) = glint(&["graph", "check", "passes/hybrid.ron", "--set", "accumulate.mode=0"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("accumulate"), "{out}");
+    // Bad edits are clear errors, not panics.
+    let (code, _, err) = glint(&["graph", "check", "passes/hybrid.ron", "--set", "accumulate.no_such=1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("no_such"), "{err}");
+    let (code, _, err) = glint(&["graph", "check", "passes/hybrid.ron", "--skip", "nope"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("nope") && err.contains("gbuffer"), "{err}");
+    let (code, _, err) = glint(&["graph", "check", "passes/hybrid.ron", "--set", "accumulate.mode"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("pass.param=value"), "{err}");
+}

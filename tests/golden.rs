@@ -8,6 +8,7 @@ mod common;
 
 use common::*;
 use glint::gpu::readback::ImageF32;
+use glint::graph::edit::GraphEdits;
 use glint::graph::{self, CompileOptions};
 use glint::image_io;
 use glint::metrics;
@@ -25,6 +26,7 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
                 for c in p.iter_mut().take(3) {
                     *c = image_io::srgb_to_linear((*c * 0.5 + 0.5).clamp(0.0, 1.0));
                 }
+                p[3] = 1.0;
             }
             "gbuf_id" => {
                 let (m, o) = (p[0] as u32, p[1] as u32);
@@ -33,6 +35,8 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             }
             // Distances (inf on a miss), occlusion and bounce distances.
             "bench_out" => *p = [p[0] / 8.0, p[1], p[2] / 8.0, 1.0],
+            // Octahedral normal, distance / 8, sample count / frames.
+            "accum_geo" => *p = [p[0] * 0.5 + 0.5, p[1] * 0.5 + 0.5, p[2] / 8.0, 1.0],
             // Edge strengths and the mask: one channel shown grey.
             "edges" | "edges_h" | "edges_blur" | "mask" => *p = [p[0], p[0], p[0], 1.0],
             // -1 not specular (black), 0 shaded (grey), 1 reused (white).
@@ -85,7 +89,9 @@ fn check(name: &str, actual: &ImageF32, failures: &mut Vec<String>) {
     }
 }
 
-/// Renders every resource each pass of `graph` is the last writer of.
+/// Renders every resource every pass of `graph` writes, as that pass left
+/// it: a resource a later pass overwrites is rendered with the graph cut
+/// after the pass (`stop_after`).
 fn golden_graph(graph_file: &str, scene_file: &str, failures: &mut Vec<String>) -> usize {
     let Some(gpu) = gpu() else { return 0 };
     let graph_path = repo().join("passes").join(graph_file);
@@ -97,10 +103,12 @@ fn golden_graph(graph_file: &str, scene_file: &str, failures: &mut Vec<String>) 
         for written in &pass.writes {
             let resource = written.split('@').next().unwrap_or(written);
             let last_writer = full.schedule.passes.iter().rev().find(|p| p.writes.iter().any(|w| w.starts_with(&format!("{resource}@"))));
-            if last_writer.map(|p| &p.name) != Some(&pass.name) {
-                continue;
-            }
-            let img = render(gpu, load_scene(scene_file), &graph_path, SIZE, FRAMES, Some(resource));
+            let stop_after = (last_writer.map(|p| &p.name) != Some(&pass.name)).then(|| pass.name.clone());
+            let options = CompileOptions {
+                output: Some(resource.to_string()),
+                edits: GraphEdits { stop_after, ..Default::default() },
+            };
+            let img = render_with(gpu, load_scene(scene_file), &graph_path, SIZE, FRAMES, &options);
             let name = format!(
                 "{}-{}-{}-{resource}",
                 graph_file.trim_end_matches(".ron"),
@@ -126,11 +134,14 @@ fn golden_images_of_every_pass() {
         ("bench-rays.ron", "cornell.ron"),
         ("hybrid.ron", "cornell.ron"),
         ("hybrid.ron", "cornell-point.ron"),
+        ("hybrid.ron", "moving-lights.ron"),
+        ("hybrid-point.ron", "cornell.ron"),
+        ("hybrid-point.ron", "moving-lights.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }
     if gpu().is_some() {
-        assert!(count >= 12, "expected a golden per pass output, got {count}");
+        assert!(count >= 89, "expected a golden per pass output, got {count}");
     }
     assert!(failures.is_empty(), "golden mismatches:\n{}", failures.join("\n"));
 }

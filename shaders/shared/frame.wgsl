@@ -27,7 +27,9 @@ struct Frame {
     // The noise-mask threshold from the PID controller (threshold.wgsl).
     mask_threshold: f32,
     background: vec3f,
-    _pad1: f32,
+    // Frames since the scene last changed (0: all history is stale);
+    // unlike accum_count, camera motion does not reset it.
+    epoch_frames: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;
@@ -40,6 +42,18 @@ fn camera_dir(cam: Camera, pixel: vec2u, jitter: vec2f) -> vec3f {
     let sx = (2.0 * p.x / size.x - 1.0) * cam.aspect * cam.tan_half_fov;
     let sy = (1.0 - 2.0 * p.y / size.y) * cam.tan_half_fov;
     return normalize(cam.forward + sx * cam.right + sy * cam.up);
+}
+
+// Where world point `p` lands on `cam`'s image, in pixels (continuous:
+// pixel (i, j) spans [i, i+1) x [j, j+1)); the inverse of camera_dir.
+// z <= 0 (behind the camera) returns a negative depth in .z.
+fn project(cam: Camera, p: vec3f) -> vec3f {
+    let d = p - cam.origin;
+    let z = dot(d, cam.forward);
+    let size = vec2f(frame.size);
+    let sx = dot(d, cam.right) / (z * cam.aspect * cam.tan_half_fov);
+    let sy = dot(d, cam.up) / (z * cam.tan_half_fov);
+    return vec3f((sx + 1.0) * 0.5 * size.x, (1.0 - sy) * 0.5 * size.y, z);
 }
 
 fn in_frame(id: vec3u) -> bool {

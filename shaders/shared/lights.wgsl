@@ -25,8 +25,13 @@ fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
     }
     let axis = to / d;
     if l.kind == LIGHT_POINT {
+        // A sphere light shaded as a point (radius > 0) must not shadow
+        // itself: the shadow ray ends at its surface.
+        if d <= l.radius {
+            return s;
+        }
         s.dir = axis;
-        s.dist = d;
+        s.dist = d - l.radius;
         s.weight = l.color / (d * d);
         s.valid = true;
         return s;

@@ -21,6 +21,10 @@ pub enum BenchCommand {
     /// The thesis's stress test: add copies of the scene's first mesh until
     /// a frame takes longer than the target; report the triangles reached.
     Stress(StressArgs),
+    /// Frames and milliseconds until a graph's image is within a FLIP mean
+    /// of its own converged result; with --camera-path, the error after
+    /// N frames of camera motion.
+    Converge(super::converge_cmd::ConvergeArgs),
 }
 
 #[derive(Args, Debug)]
@@ -69,6 +73,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), UserError> {
     match cmd {
         BenchCommand::Rays(args) => rays(args),
         BenchCommand::Stress(args) => stress(args),
+        BenchCommand::Converge(args) => super::converge_cmd::run(args),
     }
 }
 

@@ -25,6 +25,8 @@ pub struct CheckArgs {
     /// Shader folder (default: ../shaders next to the graph's folder).
     #[arg(long)]
     pub shaders: Option<PathBuf>,
+    #[command(flatten)]
+    pub edits: super::render_cmd::EditArgs,
 }
 
 pub fn check(args: CheckArgs) -> Result<(), UserError> {
@@ -33,7 +35,7 @@ pub fn check(args: CheckArgs) -> Result<(), UserError> {
         None => SceneFeatures::all(),
     };
     let dir = args.shaders.clone().unwrap_or_else(|| graph::shader_dir_for(&args.file));
-    let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions::default())?;
+    let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions { output: None, edits: args.edits.edits() })?;
     if args.dot {
         print!("{}", report::dot(&compiled.schedule));
     } else {

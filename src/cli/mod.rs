@@ -1,6 +1,7 @@
 //! The `glint` command line.
 
 mod bench_cmd;
+mod converge_cmd;
 mod graph_cmd;
 mod render_cmd;
 

@@ -9,6 +9,7 @@ use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::camera_path::CameraPath;
 use crate::graph::executor::Timing;
+use crate::graph::edit::{GraphEdits, ParamSet};
 use crate::graph::{self, CompileOptions};
 use crate::machines::{DeviceType, Machines};
 use crate::metrics::median;
@@ -51,12 +52,36 @@ pub struct RenderArgs {
     /// (--time + --dt * frame).
     #[arg(long)]
     pub camera_path: Option<String>,
+    #[command(flatten)]
+    pub edits: EditArgs,
 }
 
-/// Picks the graph: `--graph`, else the machine profile's.
-fn choose_graph(args: &RenderArgs, gpu: &Gpu) -> Result<PathBuf, UserError> {
+/// Graph variants from the command line (see graph::edit).
+#[derive(Args, Debug, Clone, Default)]
+pub struct EditArgs {
+    /// Override a pass param: --set accumulate.mode=0 (repeatable).
+    #[arg(long = "set", value_name = "PASS.PARAM=VALUE")]
+    pub set: Vec<ParamSet>,
+    /// Remove passes (comma-separated); what then feeds nothing is culled.
+    #[arg(long, value_delimiter = ',', value_name = "PASS")]
+    pub skip: Vec<String>,
+    /// Drop every pass after this one (with --output: view this pass's own
+    /// write of a resource that later passes overwrite).
+    #[arg(long, value_name = "PASS")]
+    pub stop_after: Option<String>,
+}
+
+impl EditArgs {
+    pub fn edits(&self) -> GraphEdits {
+        GraphEdits { set: self.set.clone(), skip: self.skip.clone(), stop_after: self.stop_after.clone() }
+    }
+}
+
+/// Picks the graph: `--graph`, else the machine profile's graph, with the
+/// profile's frame-time target for the PID controller.
+fn choose_graph(args: &RenderArgs, gpu: &Gpu) -> Result<(PathBuf, Option<f64>), UserError> {
     if let Some(g) = &args.graph {
-        return Ok(g.clone());
+        return Ok((g.clone(), None));
     }
     let machines = Path::new("passes/machines.ron");
     let machines = if machines.is_file() {
@@ -66,7 +91,8 @@ fn choose_graph(args: &RenderArgs, gpu: &Gpu) -> Result<PathBuf, UserError> {
     };
     let m = Machines::load(&machines)?;
     let p = m.pick(DeviceType::of(gpu.info.device_type), &gpu.info.name);
-    Ok(machines.parent().unwrap_or(Path::new(".")).join(&p.graph))
+    eprintln!("glint: machine profile `{}`: {} (target {} ms)", p.name, p.graph, p.target_ms);
+    Ok((machines.parent().unwrap_or(Path::new(".")).join(&p.graph), Some(f64::from(p.target_ms))))
 }
 
 pub fn run(args: RenderArgs) -> Result<(), UserError> {
@@ -84,8 +110,8 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     let base_camera = scene.camera;
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
-    let graph_path = choose_graph(&args, &gpu)?;
-    let options = CompileOptions { output: args.output.clone() };
+    let (graph_path, profile_target) = choose_graph(&args, &gpu)?;
+    let options = CompileOptions { output: args.output.clone(), edits: args.edits.edits() };
     let compiled = graph::load_and_compile(&graph_path, &graph::shader_dir_for(&graph_path), &scene.features, &options)?;
     eprintln!(
         "glint: {} on {}, graph `{}` ({} passes, {} culled), {}x{}, {} frame(s)",
@@ -105,7 +131,7 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let timing = Timing::for_adapter(&gpu);
-    let mut pid = match args.target_ms {
+    let mut pid = match args.target_ms.or(profile_target) {
         Some(t) if t.is_finite() && t > 0.0 => Some((t, Pid::new(PidConfig::frame_time(), f64::from(DEFAULT_MASK_THRESHOLD)))),
         Some(t) => return Err(UserError::new(format!("--target-ms {t}: give a positive number of milliseconds"))),
         None => None,
@@ -123,7 +149,12 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
         let ms_wall = t0.elapsed().as_secs_f64() * 1e3;
         frame_ms.push(ms_wall);
         if let Some((target, pid)) = &mut pid {
-            renderer.mask_threshold = pid.update(*target, ms_wall, ms_wall / 1e3) as f32;
+            // GPU time where timestamps bracket the work, else wall time.
+            let measured = match (&ms, timing) {
+                (Some(ms), Timing::Gpu) => ms.iter().sum(),
+                _ => ms_wall,
+            };
+            renderer.mask_threshold = pid.update(*target, measured, ms_wall / 1e3) as f32;
         }
         if let Some(ms) = ms {
             for (acc, m) in pass_ms.iter_mut().zip(ms) {

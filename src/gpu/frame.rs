@@ -68,5 +68,7 @@ pub struct FrameGpu {
     /// The noise-mask threshold (PID output when a target is set).
     pub mask_threshold: f32,
     pub background: [f32; 3],
-    pub _pad1: f32,
+    /// Frames since the scene (lights, objects) last changed; 0 = every
+    /// pixel's history is stale. Camera motion does not reset it.
+    pub epoch_frames: u32,
 }

@@ -5,6 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::error::Location;
 use crate::graph::desc::{FrameGraph, ParamValue, PassDesc, ResourceDesc, SizeDesc, TexFormat, TextureDesc};
+use crate::graph::edit::GraphEdits;
 use crate::graph::schedule::*;
 use crate::scene::SceneFeatures;
 use crate::shader::{BindingInfo, BindingKind, EntryInfo, SampleType, ScalarType, ShaderInfo, StorageAccess};
@@ -27,6 +28,7 @@ pub enum ErrorKind {
     BadParam,
     MissingConstant,
     UnknownConstant,
+    BadEdit,
 }
 
 /// A graph compile error. `pass` and `shader_location` say where; the caller
@@ -70,6 +72,8 @@ pub struct CompileOptions {
     /// Render this resource instead of the graph's `output` (debug views,
     /// per-pass golden images).
     pub output: Option<String>,
+    /// `--set`, `--skip`, `--stop-after` (see graph::edit).
+    pub edits: GraphEdits,
 }
 
 /// What one binding of a validated pass refers to.
@@ -113,6 +117,13 @@ pub fn compile(
     features: &SceneFeatures,
     options: &CompileOptions,
 ) -> Result<Schedule, CompileError> {
+    let edited;
+    let desc = if options.edits.is_empty() {
+        desc
+    } else {
+        edited = options.edits.apply(desc).map_err(|m| err(ErrorKind::BadEdit, None, m))?;
+        &edited
+    };
     let plans = validate(desc, shaders)?;
     let output = options.output.clone().unwrap_or_else(|| desc.output.clone());
     if !desc.resources.contains_key(&output) {

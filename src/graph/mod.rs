@@ -3,6 +3,7 @@
 
 pub mod compile;
 pub mod desc;
+pub mod edit;
 pub mod executor;
 pub mod report;
 pub mod schedule;

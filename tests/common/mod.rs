@@ -45,8 +45,13 @@ pub fn render(
     frames: u32,
     output: Option<&str>,
 ) -> ImageF32 {
-    let options = CompileOptions { output: output.map(str::to_string) };
-    let compiled = graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.features, &options)
+    let options = CompileOptions { output: output.map(str::to_string), ..Default::default() };
+    render_with(gpu, scene, graph_path, size, frames, &options)
+}
+
+/// `render` with full compile options (graph edits included).
+pub fn render_with(gpu: &Gpu, scene: Scene, graph_path: &Path, size: (u32, u32), frames: u32, options: &CompileOptions) -> ImageF32 {
+    let compiled = graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.features, options)
         .unwrap_or_else(|e| panic!("{e}"));
     let mut r = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
     for _ in 0..frames {
