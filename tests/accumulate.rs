@@ -37,7 +37,7 @@ impl Run<'_> {
             set: vec![ParamSet { pass: "accumulate".into(), param: "mode".into(), value: glint::graph::desc::ParamValue::Int(i64::from(self.mode)) }],
             ..Default::default()
         };
-        let options = CompileOptions { output: self.output.map(str::to_string), edits };
+        let options = CompileOptions { output: self.output.map(str::to_string), edits, ..Default::default() };
         let compiled = graph::load_and_compile(&repo().join("passes").join(self.graph), &repo().join("shaders"), &scene.features, &options)
             .unwrap_or_else(|e| panic!("{e}"));
         let base = scene.camera;

@@ -107,6 +107,7 @@ fn golden_graph(graph_file: &str, scene_file: &str, failures: &mut Vec<String>) 
             let options = CompileOptions {
                 output: Some(resource.to_string()),
                 edits: GraphEdits { stop_after, ..Default::default() },
+                ..Default::default()
             };
             let img = render_with(gpu, load_scene(scene_file), &graph_path, SIZE, FRAMES, &options);
             let name = format!(

@@ -4,7 +4,11 @@
 mod common;
 
 use common::*;
+use glint::graph::executor::Timing;
+use glint::graph::CompileOptions;
 use glint::metrics;
+use glint::render::Renderer;
+use glint::stats::{ReuseShare, REFLECT_REUSE};
 
 fn hybrid_with_reuse(reuse: u32) -> std::path::PathBuf {
     let dir = scratch("reflections");
@@ -27,13 +31,24 @@ fn reuse_matches_tracing_and_is_used() {
     assert!(flip.mean < 0.05, "reuse changes the picture: FLIP mean {}", flip.mean);
 
     let share = render(gpu, load_scene("cornell.ron"), &hybrid_with_reuse(1), size, 1, Some("reflect_reuse"));
-    let specular = share.data.iter().filter(|p| p[0] >= 0.0).count();
-    let reused = share.data.iter().filter(|p| p[0] == 1.0).count();
+    let ReuseShare { reused, specular } = ReuseShare::of(&share);
     assert!(specular > 100, "the mirror sphere covers {specular} pixels");
     assert!(reused > 0, "no reflection ray was served from screen space");
     eprintln!("reflection rays served from screen space: {reused} of {specular} ({:.1} %)", 100.0 * reused as f64 / specular as f64);
     let off = render(gpu, load_scene("cornell.ron"), &hybrid_with_reuse(0), size, 1, Some("reflect_reuse"));
     assert!(off.data.iter().all(|p| p[0] <= 0.0), "reuse 0 still reused");
+
+    // The stat `glint render` prints: the same record, read back from the
+    // full graph with the resource kept out of the texture pool.
+    let scene = load_scene("cornell.ron");
+    let options = CompileOptions { keep: vec![REFLECT_REUSE.to_string()], ..Default::default() };
+    let compiled = glint::graph::load_and_compile(&hybrid_with_reuse(1), &repo().join("shaders"), &scene.features, &options)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut r = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
+    r.frame(gpu, 0.0, Timing::None).unwrap_or_else(|e| panic!("{e}"));
+    let kept = r.executor.read_resource(gpu, REFLECT_REUSE).expect("kept").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(ReuseShare::of(&kept), ReuseShare { reused, specular });
+    assert!(r.executor.read_resource(gpu, "gbuf_id").is_none(), "only kept resources can be read");
 }
 
 #[test]

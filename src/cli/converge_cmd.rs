@@ -73,7 +73,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
     let scene0 = scene::load(&args.scene)?;
-    let options = CompileOptions { output: None, edits: args.edits.edits() };
+    let options = CompileOptions { output: None, edits: args.edits.edits(), ..Default::default() };
     let compiled = graph::load_and_compile(&args.graph, &graph::shader_dir_for(&args.graph), &scene0.features, &options)?;
     let base = scene0.camera;
     let camera_at = |frame: u32| match &path {

@@ -35,7 +35,7 @@ pub fn check(args: CheckArgs) -> Result<(), UserError> {
         None => SceneFeatures::all(),
     };
     let dir = args.shaders.clone().unwrap_or_else(|| graph::shader_dir_for(&args.file));
-    let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions { output: None, edits: args.edits.edits() })?;
+    let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions { output: None, edits: args.edits.edits(), ..Default::default() })?;
     if args.dot {
         print!("{}", report::dot(&compiled.schedule));
     } else {

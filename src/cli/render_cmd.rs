@@ -15,6 +15,7 @@ use crate::machines::{DeviceType, Machines};
 use crate::metrics::median;
 use crate::control::{Pid, PidConfig};
 use crate::render::{check_size, Renderer, DEFAULT_MASK_THRESHOLD};
+use crate::stats::{ReuseShare, REFLECT_REUSE};
 use crate::{image_io, scene};
 
 #[derive(Args, Debug)]
@@ -111,7 +112,7 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
     let (graph_path, profile_target) = choose_graph(&args, &gpu)?;
-    let options = CompileOptions { output: args.output.clone(), edits: args.edits.edits() };
+    let options = CompileOptions { output: args.output.clone(), edits: args.edits.edits(), keep: vec![REFLECT_REUSE.to_string()] };
     let compiled = graph::load_and_compile(&graph_path, &graph::shader_dir_for(&graph_path), &scene.features, &options)?;
     eprintln!(
         "glint: {} on {}, graph `{}` ({} passes, {} culled), {}x{}, {} frame(s)",
@@ -193,6 +194,15 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     }
     if pid.is_some() {
         println!("  mask threshold (PID): {:.4}", renderer.mask_threshold);
+    }
+    if let Some(reuse) = renderer.executor.read_resource(&gpu, REFLECT_REUSE) {
+        let s = ReuseShare::of(&reuse?);
+        println!(
+            "  reflections: {:.1}% of reflection rays reused from screen space ({} of {} specular pixels, last frame)",
+            s.share() * 100.0,
+            s.reused,
+            s.specular
+        );
     }
     let mem = compiled.schedule.memory(args.size);
     println!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);

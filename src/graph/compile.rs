@@ -74,6 +74,10 @@ pub struct CompileOptions {
     pub output: Option<String>,
     /// `--set`, `--skip`, `--stop-after` (see graph::edit).
     pub edits: GraphEdits,
+    /// Resources whose final version is kept (not pooled) until the frame
+    /// ends, so the engine can read it back for stats. Absent or unwritten
+    /// ones are ignored.
+    pub keep: Vec<String>,
 }
 
 /// What one binding of a validated pass refers to.
@@ -142,9 +146,13 @@ pub fn compile(
     culled.sort_by_key(|c| desc.passes.iter().position(|p| p.name == c.name));
     let groups = assign_groups(desc, &mut versions);
     let order = order_passes(&plans, &versions, &groups)?;
-    let lifetimes = compute_lifetimes(&order, &mut versions, &groups, &output);
+    let mut kept: Vec<&str> = vec![output.as_str()];
+    kept.extend(options.keep.iter().map(String::as_str).filter(|r| versions.latest(r).is_some()));
+    let lifetimes = compute_lifetimes(&order, &mut versions, &groups, &kept);
     let (textures, group_refs) = assign_textures(desc, &versions, &groups, &lifetimes);
-    Ok(emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output))
+    let mut schedule = emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output);
+    schedule.kept = kept.iter().map(|r| r.to_string()).collect();
+    Ok(schedule)
 }
 
 fn names<'a>(it: impl Iterator<Item = &'a String>) -> String {
@@ -756,12 +764,12 @@ struct Lifetime {
     last: usize,
 }
 
-fn compute_lifetimes(order: &[usize], vs: &mut Versions, groups: &[Group], output: &str) -> Vec<Lifetime> {
+fn compute_lifetimes(order: &[usize], vs: &mut Versions, groups: &[Group], kept: &[&str]) -> Vec<Lifetime> {
     let mut pos = vec![0usize; order.len()];
     for (i, &p) in order.iter().enumerate() {
         pos[p] = i;
     }
-    let output_version = vs.latest(output);
+    let kept_versions: Vec<usize> = kept.iter().filter_map(|r| vs.latest(r)).collect();
     groups
         .iter()
         .map(|g| {
@@ -773,7 +781,7 @@ fn compute_lifetimes(order: &[usize], vs: &mut Versions, groups: &[Group], outpu
                     first = first.min(pos[*p]);
                     last = last.max(pos[*p]);
                 }
-                if Some(v) == output_version {
+                if kept_versions.contains(&v) {
                     last = usize::MAX; // read back after the frame
                 }
             }
@@ -953,6 +961,7 @@ fn emit_schedule(
         output: tex_ref(out_v),
         output_format,
         flips_parity,
+        kept: Vec::new(),
     }
 }
 

@@ -306,6 +306,19 @@ impl Executor {
         read_texture(&gpu.device, &gpu.queue, self.output_texture(), self.schedule.output_format)
     }
 
+    /// The final version of a kept resource (see Schedule::kept) after the
+    /// last frame; None when the resource was not kept.
+    pub fn read_resource(&self, gpu: &Gpu, resource: &str) -> Option<Result<ImageF32, UserError>> {
+        if !self.schedule.kept.iter().any(|r| r == resource) {
+            return None;
+        }
+        let v = self.schedule.versions.iter().filter(|v| v.resource == resource).max_by_key(|v| v.version)?;
+        let last = if self.schedule.flips_parity { self.parity ^ 1 } else { self.parity };
+        let index = v.texture.resolve(last);
+        let format = self.schedule.textures.get(index)?.format;
+        Some(read_texture(&gpu.device, &gpu.queue, &self.textures[index], format))
+    }
+
     pub fn pass_names(&self) -> Vec<&str> {
         self.schedule.passes.iter().map(|p| p.name.as_str()).collect()
     }

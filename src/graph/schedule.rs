@@ -167,6 +167,9 @@ pub struct Schedule {
     pub output_format: TexFormat,
     /// Whether the ping-pong parity flips after each frame.
     pub flips_parity: bool,
+    /// Resources whose final version survives the frame (the output and
+    /// CompileOptions::keep): these can be read back.
+    pub kept: Vec<String>,
 }
 
 /// Memory figures for a schedule at a given render size.

@@ -1,0 +1,44 @@
+//! Engine statistics read back from graph resources after a render.
+
+use crate::gpu::readback::ImageF32;
+
+/// The reflections pass's per-pixel record: 1 reused from screen space,
+/// 0 traced and shaded, -1 not specular.
+pub const REFLECT_REUSE: &str = "reflect_reuse";
+
+/// Reflection rays served from screen space, of all specular pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReuseShare {
+    pub reused: usize,
+    pub specular: usize,
+}
+
+impl ReuseShare {
+    pub fn of(img: &ImageF32) -> ReuseShare {
+        let specular = img.data.iter().filter(|p| p[0] >= 0.0).count();
+        let reused = img.data.iter().filter(|p| p[0] == 1.0).count();
+        ReuseShare { reused, specular }
+    }
+
+    /// The share in [0, 1]; 0 without specular pixels.
+    pub fn share(&self) -> f64 {
+        if self.specular == 0 { 0.0 } else { self.reused as f64 / self.specular as f64 }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn share_counts_only_specular_pixels() {
+        let mut img = ImageF32::new(4, 1);
+        for (p, v) in img.data.iter_mut().zip([-1.0, 0.0, 1.0, 1.0]) {
+            p[0] = v;
+        }
+        let s = ReuseShare::of(&img);
+        assert_eq!((s.reused, s.specular), (2, 3));
+        assert!((s.share() - 2.0 / 3.0).abs() < 1e-12);
+        assert_eq!(ReuseShare::of(&ImageF32::new(2, 2)).share(), 0.0);
+    }
+}
