@@ -1,10 +1,13 @@
 //! Binned SAH builder (Wald 2007): at each node the primitives' centroids
-//! are binned along all three axes, the cheapest plane by the surface area
-//! heuristic is taken, and a node becomes a leaf when splitting costs more
-//! than intersecting its primitives (at most `MAX_LEAF` of them).
+//! are binned (all three axes for small nodes, the widest one for large
+//! nodes, a strided sample of the primitives for very large ones), the
+//! cheapest plane by the surface area heuristic is taken, and a node
+//! becomes a leaf when splitting costs more than intersecting its
+//! primitives (at most `MAX_LEAF` of them). The partition that follows sees
+//! every primitive and gathers the exact child bounds on the way.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec3A, Vec4};
 
 use super::Aabb;
 
@@ -51,18 +54,34 @@ pub struct Bvh {
     pub order: Vec<u32>,
 }
 
-/// A primitive during the build: its box, kept contiguous and partitioned
-/// in place (with `ids` in lockstep) so each level streams through memory.
+/// A primitive during the build: its box and its index, kept contiguous
+/// and partitioned in place so each level streams through one array. The
+/// index rides in the w lanes as two 12-bit halves stored as small whole
+/// floats (exact, never denormal: min/max over them stays fast).
 #[derive(Clone, Copy)]
 struct Prim {
-    min: Vec3A,
-    max: Vec3A,
+    min: Vec4,
+    max: Vec4,
 }
 
 impl Prim {
+    fn new(b: &Aabb, id: u32) -> Prim {
+        Prim { min: b.min.extend((id >> 12) as f32), max: b.max.extend((id & 0xfff) as f32) }
+    }
+    #[inline]
+    fn lo(&self) -> Vec3A {
+        Vec3A::from_vec4(self.min)
+    }
+    #[inline]
+    fn hi(&self) -> Vec3A {
+        Vec3A::from_vec4(self.max)
+    }
     #[inline]
     fn centroid(&self) -> Vec3A {
-        (self.min + self.max) * 0.5
+        (self.lo() + self.hi()) * 0.5
+    }
+    fn id(&self) -> u32 {
+        ((self.min.w as u32) << 12) | self.max.w as u32
     }
 }
 
@@ -97,11 +116,10 @@ impl Box3 {
 #[derive(Clone, Copy)]
 struct Bin {
     bounds: Box3,
-    centroids: Box3,
     count: u32,
 }
 
-const EMPTY_BIN: Bin = Bin { bounds: Box3::EMPTY, centroids: Box3::EMPTY, count: 0 };
+const EMPTY_BIN: Bin = Bin { bounds: Box3::EMPTY, count: 0 };
 
 struct Task {
     node: usize,
@@ -110,15 +128,19 @@ struct Task {
     centroids: Box3,
 }
 
+/// Nodes with more primitives than this choose their plane from an evenly
+/// strided sample of about this many (the SAH cost curve of a large node is
+/// smooth; the exact partition and child bounds still see every primitive).
+const SAMPLE_ABOVE: usize = 4096;
+
 /// Builds a BVH over primitives given their bounds (binned by box centre).
 pub fn build(bounds: &[Aabb]) -> Bvh {
     let n = bounds.len();
-    let mut prims: Vec<Prim> = bounds.iter().map(|b| Prim { min: b.min.into(), max: b.max.into() }).collect();
-    let mut ids: Vec<u32> = (0..n as u32).collect();
+    let mut prims: Vec<Prim> = bounds.iter().enumerate().map(|(i, b)| Prim::new(b, i as u32)).collect();
     let mut nodes = Vec::with_capacity((2 * n / MAX_LEAF).max(1) + 1);
     let (mut root_bounds, mut root_centroids) = (Box3::EMPTY, Box3::EMPTY);
     for p in &prims {
-        root_bounds.grow(p.min, p.max);
+        root_bounds.grow(p.lo(), p.hi());
         let c = p.centroid();
         root_centroids.grow(c, c);
     }
@@ -127,7 +149,7 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
     root.count = n as u32;
     nodes.push(root);
     if n == 0 {
-        return Bvh { nodes, order: ids };
+        return Bvh { nodes, order: Vec::new() };
     }
     let mut stack = vec![Task { node: 0, start: 0, end: n, centroids: root_centroids }];
     let mut bins = [[EMPTY_BIN; BINS]; 3];
@@ -146,34 +168,25 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
             nodes[task.node].count = count as u32;
             continue;
         };
-        // Partition by the chosen bin; a degenerate result (all on one side,
-        // possible with NaN centroids) falls back to the middle.
-        let (mid, from_bins) = match split.plane {
-            Some((axis, scale, bin)) => {
-                let cmin = task.centroids.min[axis];
-                let m = task.start
-                    + partition(&mut prims[task.start..task.end], &mut ids[task.start..task.end], |p| {
-                        bin_of(p.centroid()[axis], cmin, scale) < bin
-                    });
-                if m == task.start || m == task.end { (task.start + count / 2, false) } else { (m, true) }
+        // Partition by the chosen bin (child bounds gathered on the way); a
+        // degenerate result (all on one side, possible with NaN centroids)
+        // falls back to the middle.
+        let range = task.start..task.end;
+        let mut sides = None;
+        if let Some((axis, scale, bin)) = split.plane {
+            let cmin = task.centroids.min[axis];
+            let (m, s) = partition(&mut prims[range.clone()], |c| bin_of(c[axis], cmin, scale) < bin);
+            if m > 0 && m < count {
+                sides = Some((task.start + m, s));
             }
-            None => (task.start + count / 2, false),
-        };
-        let (lb, lc, rb, rc) = if from_bins {
-            (split.left, split.left_centroids, split.right, split.right_centroids)
-        } else {
-            let side = |r: &[Prim]| {
-                let (mut b, mut c) = (Box3::EMPTY, Box3::EMPTY);
-                for p in r {
-                    b.grow(p.min, p.max);
-                    let cc = p.centroid();
-                    c.grow(cc, cc);
-                }
-                (b, c)
-            };
-            let (lb, lc) = side(&prims[task.start..mid]);
-            let (rb, rc) = side(&prims[mid..task.end]);
-            (lb, lc, rb, rc)
+        }
+        let (mid, [lb, lc, rb, rc]) = match sides {
+            Some(s) => s,
+            None => {
+                let mid = task.start + count / 2;
+                let (l, r) = (side_bounds(&prims[task.start..mid]), side_bounds(&prims[mid..task.end]));
+                (mid, [l.0, l.1, r.0, r.1])
+            }
         };
         let left = nodes.len();
         let mut l = BvhNode::zeroed();
@@ -187,29 +200,29 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
         stack.push(Task { node: left + 1, start: mid, end: task.end, centroids: rc });
         stack.push(Task { node: left, start: task.start, end: mid, centroids: lc });
     }
-    Bvh { nodes, order: ids }
+    Bvh { nodes, order: prims.iter().map(Prim::id).collect() }
+}
+
+/// Bounds and centroid bounds of a run of primitives.
+fn side_bounds(prims: &[Prim]) -> (Box3, Box3) {
+    let (mut b, mut c) = (Box3::EMPTY, Box3::EMPTY);
+    for p in prims {
+        b.grow(p.lo(), p.hi());
+        let cc = p.centroid();
+        c.grow(cc, cc);
+    }
+    (b, c)
 }
 
 struct Split {
     cost: f32,
     /// (axis, bin scale, first bin of the right side); None: split in the middle.
     plane: Option<(usize, f32, usize)>,
-    left: Box3,
-    right: Box3,
-    left_centroids: Box3,
-    right_centroids: Box3,
 }
 
 impl Split {
     fn middle() -> Split {
-        Split {
-            cost: f32::INFINITY,
-            plane: None,
-            left: Box3::EMPTY,
-            right: Box3::EMPTY,
-            left_centroids: Box3::EMPTY,
-            right_centroids: Box3::EMPTY,
-        }
+        Split { cost: f32::INFINITY, plane: None }
     }
 }
 
@@ -234,37 +247,27 @@ fn best_split(prims: &[Prim], cb: &Box3, bins: &mut [[Bin; BINS]; 3]) -> Option<
     };
     let extent = cb.max - cb.min;
     let widest = if extent.x >= extent.y && extent.x >= extent.z { 0 } else if extent.y >= extent.z { 1 } else { 2 };
+    let one_axis = prims.len() > ONE_AXIS_ABOVE;
     let mut scales = [0.0f32; 3];
     for a in 0..3 {
-        let binned = prims.len() <= ONE_AXIS_ABOVE || a == widest;
-        if binned && extent[a] > 0.0 && extent[a].is_finite() {
+        if (!one_axis || a == widest) && extent[a] > 0.0 && extent[a].is_finite() {
             scales[a] = nb as f32 * (1.0 - 1e-6) / extent[a];
         }
     }
     if scales == [0.0; 3] {
         return None;
     }
-    let scale = Vec3A::from_array(scales);
-    let max_bin = Vec3A::splat(nb as f32 - 1.0);
     // Clear only the bins this node uses (the scratch is reused across nodes).
-    for a in 0..3 {
-        if scales[a] != 0.0 {
-            bins[a][..nb].fill(EMPTY_BIN);
+    for (a, axis_bins) in bins.iter_mut().enumerate() {
+        if scales[a] != 0.0 || !one_axis {
+            axis_bins[..nb].fill(EMPTY_BIN);
         }
     }
-    for p in prims {
-        let c = p.centroid();
-        // All three bin indices at once; NaN and out-of-range clamp.
-        let b = ((c - cb.min) * scale).max(Vec3A::ZERO).min(max_bin);
-        for a in 0..3 {
-            if scales[a] == 0.0 {
-                continue;
-            }
-            let bin = &mut bins[a][b[a] as usize];
-            bin.bounds.grow(p.min, p.max);
-            bin.centroids.grow(c, c);
-            bin.count += 1;
-        }
+    let stride = prims.len().div_ceil(SAMPLE_ABOVE).max(1);
+    if one_axis {
+        bin_one_axis(prims, stride, widest, cb.min[widest], scales[widest], &mut bins[widest]);
+    } else {
+        bin_three_axes(prims, cb, Vec3A::from_array(scales), nb, bins);
     }
     let mut best: Option<Split> = None;
     for a in 0..3 {
@@ -290,41 +293,62 @@ fn best_split(prims: &[Prim], cb: &Box3, bins: &mut [[Bin; BINS]; 3]) -> Option<
             if nl == 0 || right_count[i] == 0 {
                 continue;
             }
-            let cost = left.half_area() * nl as f32 + right_area[i] * right_count[i] as f32;
+            // Counts of a sample stand for `stride` primitives each.
+            let cost = (left.half_area() * nl as f32 + right_area[i] * right_count[i] as f32) * stride as f32;
             if best.as_ref().is_none_or(|b| cost < b.cost) {
-                let mut s = Split::middle();
-                s.cost = cost;
-                s.plane = Some((a, scales[a], i));
-                best = Some(s);
+                best = Some(Split { cost, plane: Some((a, scales[a], i)) });
             }
         }
     }
-    let mut best = best?;
-    if let Some((a, _, split_bin)) = best.plane {
-        for (i, bin) in bins[a][..nb].iter().enumerate() {
-            let (b, c) = if i < split_bin { (&mut best.left, &mut best.left_centroids) } else { (&mut best.right, &mut best.right_centroids) };
-            b.union(&bin.bounds);
-            c.union(&bin.centroids);
-        }
-    }
-    Some(best)
+    best
 }
 
-/// In-place partition of `prims` (and `ids` alongside); returns how many
-/// satisfy `left`.
-fn partition(prims: &mut [Prim], ids: &mut [u32], left: impl Fn(&Prim) -> bool) -> usize {
-    let mut i = 0;
-    let mut j = prims.len();
-    while i < j {
-        if left(&prims[i]) {
-            i += 1;
-        } else {
-            j -= 1;
-            prims.swap(i, j);
-            ids.swap(i, j);
+/// Bins every `stride`-th primitive along `axis` alone.
+fn bin_one_axis(prims: &[Prim], stride: usize, axis: usize, cmin: f32, scale: f32, bins: &mut [Bin; BINS]) {
+    for p in prims.iter().step_by(stride) {
+        let c = (p.min[axis] + p.max[axis]) * 0.5;
+        let bin = &mut bins[bin_of(c, cmin, scale)];
+        bin.bounds.grow(p.lo(), p.hi());
+        bin.count += 1;
+    }
+}
+
+/// Bins every primitive along the axes whose scale is non-zero.
+fn bin_three_axes(prims: &[Prim], cb: &Box3, scale: Vec3A, nb: usize, bins: &mut [[Bin; BINS]; 3]) {
+    let max_bin = Vec3A::splat(nb as f32 - 1.0);
+    for p in prims {
+        let c = p.centroid();
+        // All three bin indices at once; NaN and out-of-range clamp.
+        let b = ((c - cb.min) * scale).max(Vec3A::ZERO).min(max_bin);
+        // An axis with scale 0 bins everything into its bin 0; the sweep
+        // skips it, and no branch here is cheaper than testing.
+        for a in 0..3 {
+            let bin = &mut bins[a][b[a] as usize];
+            bin.bounds.grow(p.lo(), p.hi());
+            bin.count += 1;
         }
     }
-    i
+}
+
+/// Branch-free in-place partition of `prims` by a
+/// test on the centroid; returns how many went left and the left bounds,
+/// left centroid bounds, right bounds and right centroid bounds.
+fn partition(prims: &mut [Prim], left: impl Fn(Vec3A) -> bool) -> (usize, [Box3; 4]) {
+    // sides[0]: right, sides[1]: left (indexed by the test's result).
+    let mut bounds = [Box3::EMPTY; 2];
+    let mut centroids = [Box3::EMPTY; 2];
+    let mut j = 0;
+    for i in 0..prims.len() {
+        let p = prims[i];
+        let c = p.centroid();
+        let l = left(c) as usize;
+        bounds[l].grow(p.lo(), p.hi());
+        centroids[l].grow(c, c);
+        // Lomuto without a branch: [0, j) went left, [j, i] right.
+        prims.swap(i, j);
+        j += l;
+    }
+    (j, [bounds[1], centroids[1], bounds[0], centroids[0]])
 }
 
 /// Recomputes node bounds bottom-up after primitives moved (same topology).
@@ -394,12 +418,24 @@ mod tests {
 
     #[test]
     fn builds_valid_trees() {
-        for n in [0, 1, 2, 3, 5, 17, 100, 5000] {
+        // 20000: the top nodes choose their plane from a sample.
+        for n in [0, 1, 2, 3, 5, 17, 100, 5000, 20000] {
             let (b, _) = random_boxes(n, n as u32 + 7);
             let bvh = build(&b);
             if n > 0 {
                 check(&bvh, &b);
             }
+        }
+    }
+
+    #[test]
+    fn primitive_ids_ride_in_the_w_lanes_exactly() {
+        let b = Aabb { min: Vec3::splat(-1.0), max: Vec3::ONE };
+        for id in [0, 1, 4095, 4096, 4097, (1 << 24) + 7, u32::MAX - 1, u32::MAX] {
+            let p = Prim::new(&b, id);
+            assert_eq!(p.id(), id);
+            assert!(p.min.w.is_normal() || p.min.w == 0.0);
+            assert_eq!((p.lo(), p.hi()), (Vec3A::splat(-1.0), Vec3A::ONE));
         }
     }
 
