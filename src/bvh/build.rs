@@ -126,6 +126,18 @@ struct Task {
     start: usize,
     end: usize,
     centroids: Box3,
+    depth: u32,
+}
+
+/// Default depth bound of a BLAS. The shader's traversal stack (64
+/// entries) grows by at most one per level, so a TLAS (`TLAS_MAX_DEPTH`),
+/// a leaf's instances and a BLAS must fit in it together.
+pub const BLAS_MAX_DEPTH: u32 = 44;
+pub const TLAS_MAX_DEPTH: u32 = 16;
+
+/// Levels a balanced subtree over `count` primitives needs below its root.
+fn balanced_levels(count: usize) -> u32 {
+    count.div_ceil(MAX_LEAF).max(1).next_power_of_two().trailing_zeros()
 }
 
 /// Nodes with more primitives than this choose their plane from an evenly
@@ -133,8 +145,17 @@ struct Task {
 /// smooth; the exact partition and child bounds still see every primitive).
 const SAMPLE_ABOVE: usize = 4096;
 
-/// Builds a BVH over primitives given their bounds (binned by box centre).
+/// Builds a BVH over primitives given their bounds (binned by box centre),
+/// at most `BLAS_MAX_DEPTH` levels deep.
 pub fn build(bounds: &[Aabb]) -> Bvh {
+    build_with_depth(bounds, BLAS_MAX_DEPTH)
+}
+
+/// `build` with a depth bound: a subtree that could not otherwise stay
+/// within `max_depth` levels (the SAH happily peels off one primitive per
+/// level on graded input) is split at its centroid median from there on,
+/// which halves it each level. Best effort when even that cannot fit.
+pub fn build_with_depth(bounds: &[Aabb], max_depth: u32) -> Bvh {
     let n = bounds.len();
     let mut prims: Vec<Prim> = bounds.iter().enumerate().map(|(i, b)| Prim::new(b, i as u32)).collect();
     let mut nodes = Vec::with_capacity((2 * n / MAX_LEAF).max(1) + 1);
@@ -151,12 +172,13 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
     if n == 0 {
         return Bvh { nodes, order: Vec::new() };
     }
-    let mut stack = vec![Task { node: 0, start: 0, end: n, centroids: root_centroids }];
+    let mut stack = vec![Task { node: 0, start: 0, end: n, centroids: root_centroids, depth: 1 }];
     let mut bins = [[EMPTY_BIN; BINS]; 3];
     while let Some(task) = stack.pop() {
         let count = task.end - task.start;
         let node_area = nodes[task.node].bounds().half_area();
-        let split = if count >= MIN_SPLIT { best_split(&prims[task.start..task.end], &task.centroids, &mut bins) } else { None };
+        let must_balance = count > MAX_LEAF && task.depth + balanced_levels(count) >= max_depth;
+        let split = if count >= MIN_SPLIT && !must_balance { best_split(&prims[task.start..task.end], &task.centroids, &mut bins) } else { None };
         let split = match split {
             Some(s) if node_area > 0.0 && TRAVERSAL_COST + s.cost / node_area < count as f32 => Some(s),
             Some(s) if count > MAX_LEAF => Some(s),
@@ -184,6 +206,11 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
             Some(s) => s,
             None => {
                 let mid = task.start + count / 2;
+                if must_balance {
+                    let e = task.centroids.max - task.centroids.min;
+                    let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
+                    prims[range.clone()].select_nth_unstable_by(count / 2, |a, b| a.centroid()[axis].total_cmp(&b.centroid()[axis]));
+                }
                 let (l, r) = (side_bounds(&prims[task.start..mid]), side_bounds(&prims[mid..task.end]));
                 (mid, [l.0, l.1, r.0, r.1])
             }
@@ -197,8 +224,9 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
         nodes.push(r);
         nodes[task.node].left_first = left as u32;
         nodes[task.node].count = 0;
-        stack.push(Task { node: left + 1, start: mid, end: task.end, centroids: rc });
-        stack.push(Task { node: left, start: task.start, end: mid, centroids: lc });
+        let depth = task.depth + 1;
+        stack.push(Task { node: left + 1, start: mid, end: task.end, centroids: rc, depth });
+        stack.push(Task { node: left, start: task.start, end: mid, centroids: lc, depth });
     }
     Bvh { nodes, order: prims.iter().map(Prim::id).collect() }
 }

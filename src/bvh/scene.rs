@@ -12,7 +12,7 @@ use std::time::Instant;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use super::{build, refit, Aabb, Bvh, BvhNode};
+use super::{build, build_with_depth, refit, Aabb, Bvh, BvhNode, TLAS_MAX_DEPTH};
 use crate::scene::{SceneData, TriangleGpu, TriangleNormalsGpu};
 
 pub const TLAS_LEAF: u32 = 0x8000_0000;
@@ -122,7 +122,7 @@ impl SceneBvh {
             inst_bounds.push(Aabb { min: c - Vec3::splat(s.radius), max: c + Vec3::splat(s.radius) });
             inst.push((INSTANCE_SPHERE, i));
         }
-        let tlas = build(&inst_bounds);
+        let tlas = build_with_depth(&inst_bounds, TLAS_MAX_DEPTH);
         // BLAS m starts after the TLAS and the BLASes before it.
         let mut roots = Vec::with_capacity(blas_nodes.len());
         let mut next = tlas.nodes.len() as u32;

@@ -15,6 +15,7 @@ use bytemuck::Zeroable;
 use glam::{DVec3, Vec3};
 
 use super::offset::offset_ray;
+use super::{BLAS_MAX_DEPTH, TLAS_MAX_DEPTH};
 use super::ray::{hit_sphere, hit_triangle, next_up, Geometry, Hit, Ray, SPHERE_BIT, STACK};
 use super::scene::{SceneBvh, TLAS_LEAF};
 use super::{Aabb, BvhNode};
@@ -1517,16 +1518,15 @@ fn a_hundred_thousand_triangles_at_one_spot() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
-/// Triangles at scales 4^k (k from 60 down to -60) nested at one corner make
-/// the SAH builder produce a BVH 66 nodes deep, deeper than the 64-entry
-/// traversal stack (the builder bounds no depth). Rays from next to a small
-/// triangle out along +x are inside every box, so the stack grows by one per
-/// level: pushes past the top are dropped, without a panic. No hit is lost
-/// here only because the triangles below the 64th level are smaller than
-/// about 1e-19, where the edge functions of the watertight test (products of
-/// two such lengths) underflow, so no ray hits them anyway.
+/// Triangles graded in size by powers of 4 (4^-60 .. 4^60) made the plain
+/// SAH builder peel off one per level: a BVH 66 deep, deeper than the
+/// 64-entry traversal stack, so pushes were dropped. The builder now bounds
+/// the depth (median splits once a subtree could not fit otherwise): the
+/// tree fits the stack with the TLAS above it, and rays from next to a
+/// small triangle out along +x (inside every box, so the stack grows by one
+/// per level) find exactly what brute force finds.
 #[test]
-fn a_bvh_deeper_than_the_traversal_stack_does_not_panic() {
+fn graded_meshes_build_trees_that_fit_the_traversal_stack() {
     let mut tris = Vec::new();
     for k in (-60..=60).rev() {
         let s = 4f64.powi(k);
@@ -1537,10 +1537,7 @@ fn a_bvh_deeper_than_the_traversal_stack_does_not_panic() {
     let data = built(data);
     let depth = tree_depth(&data.bvh, &data.instances);
     let mut rng = Rng::new(18);
-    let mut cmp = Compare::new("BVH deeper than the stack", &data);
-    // From next to a small triangle out along +x, inside every box: both
-    // children are hit at every level, so the stack grows by one per level
-    // and the nearest (smallest) triangles are the ones pushed last.
+    let mut cmp = Compare::new("graded mesh", &data);
     for k in (-60..=40).step_by(4) {
         let s = 4f64.powi(k);
         for _ in 0..4 {
@@ -1550,6 +1547,39 @@ fn a_bvh_deeper_than_the_traversal_stack_does_not_panic() {
         }
     }
     eprintln!("{} triangles, depth {depth} (stack {STACK})", tris.len());
-    assert!(depth > STACK);
+    assert!(depth as u32 <= BLAS_MAX_DEPTH + TLAS_MAX_DEPTH, "depth {depth}");
+    assert!(depth < STACK);
     cmp.finish();
+}
+
+/// Boxes graded by powers of 2 along a diagonal: the unbounded SAH builder
+/// peels one off per level; the bounded one stays within its limit.
+#[test]
+fn build_depth_is_bounded() {
+    let bounds: Vec<Aabb> = (-120..120)
+        .map(|k| Aabb { min: Vec3::splat(2f32.powi(k)), max: Vec3::splat(2f32.powi(k + 1)) })
+        .collect();
+    for max_depth in [8, 20, BLAS_MAX_DEPTH, u32::MAX] {
+        let bvh = super::build_with_depth(&bounds, max_depth);
+        let mut deepest = 0;
+        let mut stack = vec![(0usize, 1u32)];
+        let mut seen = 0;
+        while let Some((i, d)) = stack.pop() {
+            deepest = deepest.max(d);
+            let n = bvh.nodes[i];
+            if n.count > 0 {
+                seen += n.count as usize;
+            } else {
+                stack.push((n.left_first as usize, d + 1));
+                stack.push((n.left_first as usize + 1, d + 1));
+            }
+        }
+        assert_eq!(seen, bounds.len());
+        eprintln!("max {max_depth}: depth {deepest}");
+        if max_depth == u32::MAX {
+            assert!(deepest > BLAS_MAX_DEPTH, "the input should be deep without a bound: {deepest}");
+        } else {
+            assert!(deepest <= max_depth, "max {max_depth}: depth {deepest}");
+        }
+    }
 }
