@@ -55,7 +55,8 @@ pub struct RaysArgs {
     pub camera: [f32; 7],
     #[arg(long, default_value_t = 5)]
     pub runs: u32,
-    /// Write the primary hit distance (inf on a miss) as a 1-channel EXR.
+    /// Write the primary hit distance (inf on a miss) as a 1-channel EXR
+    /// (or a greyscale `Pf` PFM when the name ends in .pfm).
     #[arg(long)]
     pub hitdist: Option<PathBuf>,
 }
@@ -235,6 +236,9 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
 /// The x channel (primary hit distance, inf on a miss) as a 1-channel EXR.
 fn write_hitdist(img: &ImageF32, path: &Path) -> Result<(), UserError> {
     use exr::prelude::*;
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("pfm")) {
+        return write_grey_pfm(img, path);
+    }
     let samples: Vec<f32> = img.data.iter().map(|p| p[0]).collect();
     let channel = AnyChannel::new("Z", FlatSamples::F32(samples));
     let layer = Layer::new(
@@ -247,6 +251,18 @@ fn write_hitdist(img: &ImageF32, path: &Path) -> Result<(), UserError> {
         .write()
         .to_file(path)
         .map_err(|e| UserError::in_file(path, format!("cannot write the EXR: {e}")))
+}
+
+/// The x channel as a one-channel PFM (`Pf`, bottom row first, little
+/// endian), for tools without an EXR reader (tools/embree).
+fn write_grey_pfm(img: &ImageF32, path: &Path) -> Result<(), UserError> {
+    let mut bytes = format!("Pf\n{} {}\n-1.0\n", img.width, img.height).into_bytes();
+    for y in (0..img.height).rev() {
+        for x in 0..img.width {
+            bytes.extend_from_slice(&img.get(x, y)[0].to_le_bytes());
+        }
+    }
+    std::fs::write(path, bytes).map_err(|e| UserError::in_file(path, format!("cannot write the PFM: {e}")))
 }
 
 #[cfg(test)]
