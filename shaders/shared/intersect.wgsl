@@ -262,16 +262,27 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     if t_root < 0.0 {
         return best;
     }
-    stack[0] = vec2u(0u, bitcast<u32>(t_root));
-    var sp = 1u;
-    for (var steps = 0u; sp > 0u && steps < MAX_STEPS; steps++) {
-        sp -= 1u;
-        let top = stack[sp];
-        // The same slack hit_box gives its far bound.
-        if bitcast<f32>(top.y) > best.t * IZE_SCALE {
-            continue;
+    // The node being visited stays in registers; only the farther child of
+    // a pair (and BLAS roots) go through the stack: dynamically indexed
+    // private memory is the expensive part on SIMD CPUs (lavapipe).
+    var current = 0u;
+    var have_current = true;
+    var sp = 0u;
+    for (var steps = 0u; steps < MAX_STEPS; steps++) {
+        if !have_current {
+            if sp == 0u {
+                break;
+            }
+            sp -= 1u;
+            let top = stack[sp];
+            // The same slack hit_box gives its far bound.
+            if bitcast<f32>(top.y) > best.t * IZE_SCALE {
+                continue;
+            }
+            current = top.x;
         }
-        let node = scene_bvh[top.x];
+        have_current = false;
+        let node = scene_bvh[current];
         if (node.count & TLAS_LEAF) != 0u {
             let end = node.left_first + (node.count & ~TLAS_LEAF);
             for (var k = node.left_first; k < end; k++) {
@@ -305,7 +316,7 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
             let nb = scene_bvh[a + 1u];
             let ta = hit_box(r, na.bmin, na.bmax, best.t);
             let tb = hit_box(r, nb.bmin, nb.bmax, best.t);
-            // Push the farther first so the nearer is visited first.
+            // Visit the nearer now; push the farther.
             var first = a;
             var second = a + 1u;
             var t_first = ta;
@@ -316,13 +327,13 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
                 t_first = tb;
                 t_second = ta;
             }
-            if t_second >= 0.0 && sp < STACK_SIZE {
-                stack[sp] = vec2u(second, bitcast<u32>(t_second));
-                sp += 1u;
-            }
-            if t_first >= 0.0 && sp < STACK_SIZE {
-                stack[sp] = vec2u(first, bitcast<u32>(t_first));
-                sp += 1u;
+            if t_first >= 0.0 {
+                current = first;
+                have_current = true;
+                if t_second >= 0.0 && sp < STACK_SIZE {
+                    stack[sp] = vec2u(second, bitcast<u32>(t_second));
+                    sp += 1u;
+                }
             }
         }
     }
