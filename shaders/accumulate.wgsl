@@ -52,10 +52,9 @@ fn oct_decode(p: vec2f) -> vec3f {
     return select(n / l, vec3f(0.0), l == 0.0);
 }
 
-// Whether history texel `q` saw the same surface as this pixel's hit `p`
-// (normal `n`), or, for a miss, also a miss.
-fn agrees(q: vec2i, p: vec3f, n: vec3f, miss: bool) -> bool {
-    let g = textureLoad(geo_prev, q, 0);
+// Whether history texel `q`, whose `geo` record is `g`, saw the same
+// surface as this pixel's hit `p` (normal `n`), or, for a miss, also a miss.
+fn agrees(q: vec2i, g: vec4f, p: vec3f, n: vec3f, miss: bool) -> bool {
     if miss || g.z < 0.0 {
         return miss && g.z < 0.0;
     }
@@ -98,11 +97,11 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> vec4f 
         }
         // A still camera sees the same footprint: no test needed (it would
         // otherwise reject silhouette pixels whose jittered samples differ).
-        if !still && !agrees(q, g.xyz, n, miss) {
+        let record = textureLoad(geo_prev, q, 0);
+        if !still && !agrees(q, record, g.xyz, n, miss) {
             continue;
         }
-        let count = textureLoad(geo_prev, q, 0).w;
-        sum += w * vec4f(textureLoad(accum_prev, q, 0).rgb, count);
+        sum += w * vec4f(textureLoad(accum_prev, q, 0).rgb, record.w);
         weight += w;
     }
     if weight < 1e-3 {

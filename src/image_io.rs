@@ -25,10 +25,21 @@ pub fn to_srgb8(img: &ImageF32) -> Vec<u8> {
 
 /// Writes a PFM (linear RGB f32, bottom row first, little-endian).
 fn save_pfm(img: &ImageF32, path: &Path) -> std::io::Result<()> {
-    let mut bytes = format!("PF\n{} {}\n-1.0\n", img.width, img.height).into_bytes();
+    write_pfm(img, path, 3)
+}
+
+/// Writes the first channel alone as a greyscale PFM (`Pf`), e.g. a hit
+/// distance image for tools without an EXR reader.
+pub fn save_pfm_grey(img: &ImageF32, path: &Path) -> Result<(), UserError> {
+    write_pfm(img, path, 1).map_err(|e| UserError::in_file(path, format!("cannot write the PFM: {e}")))
+}
+
+fn write_pfm(img: &ImageF32, path: &Path, channels: usize) -> std::io::Result<()> {
+    let tag = if channels == 1 { "Pf" } else { "PF" };
+    let mut bytes = format!("{tag}\n{} {}\n-1.0\n", img.width, img.height).into_bytes();
     for y in (0..img.height).rev() {
         for x in 0..img.width {
-            for c in &img.get(x, y)[..3] {
+            for c in &img.get(x, y)[..channels] {
                 bytes.extend_from_slice(&c.to_le_bytes());
             }
         }

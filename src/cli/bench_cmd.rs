@@ -99,13 +99,13 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     let compiled = graph::load_and_compile(&graph_path, &graph::shader_dir_for(&graph_path), &scene.features, &CompileOptions::default())?;
     let mut renderer = Renderer::new(&gpu, scene, &compiled, args.size, 1)?;
     let build = renderer.bvh_stats;
-    println!("adapter={}", gpu.describe());
-    println!("triangles={triangles}");
-    println!("obj_load_ms={load_ms:.1}");
-    println!("bvh_build_ms={:.1}", build.build_ms);
-    println!("bvh_update_ms={:.1}", build.blas_ms + build.tlas_ms);
-    println!("bvh_build_mtri_per_s={:.2}", build.mtri_per_s());
-    println!("bvh_nodes={}", renderer.buffers.data.bvh.len());
+    out!("adapter={}", gpu.describe());
+    out!("triangles={triangles}");
+    out!("obj_load_ms={load_ms:.1}");
+    out!("bvh_build_ms={:.1}", build.build_ms);
+    out!("bvh_update_ms={:.1}", build.blas_ms + build.tlas_ms);
+    out!("bvh_build_mtri_per_s={:.2}", build.mtri_per_s());
+    out!("bvh_nodes={}", renderer.buffers.data.bvh.len());
 
     // Warm up (pipeline compilation, first-touch), then time each pass.
     renderer.frame(&gpu, 0.0, Timing::WallPerPass)?;
@@ -128,23 +128,23 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     let out = renderer.read_output(&gpu)?;
     let pixels = (args.size.0 * args.size.1) as f64;
     let hits = out.data.iter().filter(|p| p[0].is_finite()).count() as f64;
-    println!("primary_rays={pixels}");
-    println!("secondary_rays_each={hits}");
+    out!("primary_rays={pixels}");
+    out!("secondary_rays_each={hits}");
     let names = ["primary", "shadow", "diffuse"];
     let counts = [pixels, hits, hits];
     for i in 0..3 {
         let w = median(&wall[i]);
-        println!("{}_ms_wall={w:.3}", names[i]);
-        println!("{}_mrays_per_s_wall={:.2}", names[i], counts[i] / (w * 1e3));
+        out!("{}_ms_wall={w:.3}", names[i]);
+        out!("{}_mrays_per_s_wall={:.2}", names[i], counts[i] / (w * 1e3));
         if !stamps[i].is_empty() {
             let g = median(&stamps[i]);
-            println!("{}_ms_gpu={g:.3}", names[i]);
-            println!("{}_mrays_per_s_gpu={:.2}", names[i], counts[i] / (g.max(1e-6) * 1e3));
+            out!("{}_ms_gpu={g:.3}", names[i]);
+            out!("{}_mrays_per_s_gpu={:.2}", names[i], counts[i] / (g.max(1e-6) * 1e3));
         }
     }
     if let Some(path) = &args.hitdist {
         write_hitdist(&out, path)?;
-        println!("hitdist={}", path.display());
+        out!("hitdist={}", path.display());
     }
     Ok(())
 }
@@ -204,8 +204,8 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
     }
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
-    println!("adapter={}", gpu.describe());
-    println!("mode={}", if args.brute_force { "brute-force" } else { "bvh" });
+    out!("adapter={}", gpu.describe());
+    out!("mode={}", if args.brute_force { "brute-force" } else { "bvh" });
     let mut copies = 0usize;
     let mut reached = 0usize;
     loop {
@@ -213,12 +213,12 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
             Ok(step) => step,
             // Past the adapter's buffer limits: report what fit.
             Err(e) if reached > 0 => {
-                println!("stopped_early=\"{e}\"");
+                out!("stopped_early=\"{e}\"");
                 break;
             }
             Err(e) => return Err(e),
         };
-        println!("step copies={copies} triangles={tris} frame_ms={ms:.2}");
+        out!("step copies={copies} triangles={tris} frame_ms={ms:.2}");
         if ms > args.target_ms {
             break;
         }
@@ -228,8 +228,8 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
         }
         copies = (copies * 2).max(1);
     }
-    println!("target_ms={}", args.target_ms);
-    println!("triangles_within_target={reached}");
+    out!("target_ms={}", args.target_ms);
+    out!("triangles_within_target={reached}");
     Ok(())
 }
 
@@ -237,7 +237,7 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
 fn write_hitdist(img: &ImageF32, path: &Path) -> Result<(), UserError> {
     use exr::prelude::*;
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("pfm")) {
-        return write_grey_pfm(img, path);
+        return crate::image_io::save_pfm_grey(img, path);
     }
     let samples: Vec<f32> = img.data.iter().map(|p| p[0]).collect();
     let channel = AnyChannel::new("Z", FlatSamples::F32(samples));
@@ -251,18 +251,6 @@ fn write_hitdist(img: &ImageF32, path: &Path) -> Result<(), UserError> {
         .write()
         .to_file(path)
         .map_err(|e| UserError::in_file(path, format!("cannot write the EXR: {e}")))
-}
-
-/// The x channel as a one-channel PFM (`Pf`, bottom row first, little
-/// endian), for tools without an EXR reader (tools/embree).
-fn write_grey_pfm(img: &ImageF32, path: &Path) -> Result<(), UserError> {
-    let mut bytes = format!("Pf\n{} {}\n-1.0\n", img.width, img.height).into_bytes();
-    for y in (0..img.height).rev() {
-        for x in 0..img.width {
-            bytes.extend_from_slice(&img.get(x, y)[0].to_le_bytes());
-        }
-    }
-    std::fs::write(path, bytes).map_err(|e| UserError::in_file(path, format!("cannot write the PFM: {e}")))
 }
 
 #[cfg(test)]

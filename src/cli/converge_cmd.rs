@@ -81,9 +81,9 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
         None => base,
     };
     let passes: Vec<String> = compiled.schedule.passes.iter().map(|p| p.name.clone()).collect();
-    println!("adapter={}", gpu.describe());
-    println!("graph={} passes={}", compiled.schedule.name, passes.join(","));
-    println!("size={}x{}", args.size.0, args.size.1);
+    out!("adapter={}", gpu.describe());
+    out!("graph={} passes={}", compiled.schedule.name, passes.join(","));
+    out!("size={}x{}", args.size.0, args.size.1);
 
     // The reference: a still camera where the measured run ends.
     let mut reference_renderer = Renderer::new(&gpu, scene0, &compiled, args.size, REFERENCE_SEED)?;
@@ -93,7 +93,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
     }
     let reference = reference_renderer.read_output(&gpu)?;
     drop(reference_renderer);
-    println!("reference_frames={}", args.reference_frames);
+    out!("reference_frames={}", args.reference_frames);
     if let Some(p) = &args.reference_out {
         crate::image_io::save(&reference, p)?;
     }
@@ -106,7 +106,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
     let mut frame_ms = Vec::new();
     let mut reached: Vec<Option<(u32, f64)>> = vec![None; args.flip.len()];
     let strictest = args.flip.iter().copied().fold(f32::INFINITY, f32::min);
-    let mut last: Option<ImageF32> = None;
+    let mut last: Option<(ImageF32, f32)> = None;
     for i in 0..args.frames {
         renderer.scene.camera = camera_at(i);
         let ms = renderer.frame(&gpu, args.time, timing)?.map(|v| v.iter().sum::<f64>()).unwrap_or(0.0);
@@ -118,8 +118,8 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
         let image = renderer.read_output(&gpu)?;
         let (flip, _) = metrics::flip(&reference, &image);
         let total: f64 = frame_ms.iter().sum();
-        println!("step frame={} flip={:.5} ms_total={total:.1}", i + 1, flip.mean);
-        last = Some(image);
+        out!("step frame={} flip={:.5} ms_total={total:.1}", i + 1, flip.mean);
+        last = Some((image, flip.mean));
         for (r, threshold) in reached.iter_mut().zip(&args.flip) {
             if path.is_none() && r.is_none() && flip.mean <= *threshold {
                 *r = Some((i + 1, total));
@@ -129,11 +129,10 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
             break;
         }
     }
-    println!("frame_ms_median={:.3}", median(&frame_ms));
-    if let Some(image) = &last {
-        let (flip, _) = metrics::flip(&reference, image);
-        println!("final_flip_mean={:.5}", flip.mean);
-        println!("final_relmse={:.6}", metrics::rel_mse(&reference, image));
+    out!("frame_ms_median={:.3}", median(&frame_ms));
+    if let Some((image, flip_mean)) = &last {
+        out!("final_flip_mean={flip_mean:.5}");
+        out!("final_relmse={:.6}", metrics::rel_mse(&reference, image));
         if let Some(p) = &args.out {
             crate::image_io::save(image, p)?;
         }
@@ -141,8 +140,8 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
     if path.is_none() {
         for (r, threshold) in reached.iter().zip(&args.flip) {
             match r {
-                Some((frames, ms)) => println!("flip<={threshold} frames={frames} ms={ms:.1}"),
-                None => println!("flip<={threshold} frames=none (not reached in {} frames)", args.frames),
+                Some((frames, ms)) => out!("flip<={threshold} frames={frames} ms={ms:.1}"),
+                None => out!("flip<={threshold} frames=none (not reached in {} frames)", args.frames),
             }
         }
     }

@@ -37,9 +37,9 @@ pub fn check(args: CheckArgs) -> Result<(), UserError> {
     let dir = args.shaders.clone().unwrap_or_else(|| graph::shader_dir_for(&args.file));
     let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions { output: None, edits: args.edits.edits(), ..Default::default() })?;
     if args.dot {
-        print!("{}", report::dot(&compiled.schedule));
+        out_raw!("{}", report::dot(&compiled.schedule));
     } else {
-        print!("{}", report::text(&compiled.schedule, args.size));
+        out_raw!("{}", report::text(&compiled.schedule, args.size));
     }
     Ok(())
 }
@@ -50,9 +50,9 @@ pub fn check_shaders(files: Vec<String>, dir: Option<PathBuf>) -> Result<(), Use
     let mut failed = Vec::new();
     for f in &files {
         match shader::load(&dir, f) {
-            Ok(s) => println!("ok   {f} ({} entry points)", s.info.entry_points.len()),
+            Ok(s) => out!("ok   {f} ({} entry points)", s.info.entry_points.len()),
             Err(e) => {
-                println!("FAIL {e}");
+                out!("FAIL {e}");
                 failed.push(e);
             }
         }

@@ -1,5 +1,23 @@
 //! The `glint` command line.
 
+/// `println!` to stdout, ignoring write errors: `glint compare a b | head`
+/// closes the pipe early, and that must neither panic nor stop the command
+/// before it has written its files.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
+/// `print!` with the same rule as `out!`.
+macro_rules! out_raw {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
 mod bench_cmd;
 mod converge_cmd;
 mod graph_cmd;
@@ -74,14 +92,14 @@ fn compare(reference: &std::path::Path, test: &std::path::Path, block: u32) -> R
     }
     let (flip, _) = crate::metrics::flip(&r, &t);
     let b = crate::metrics::block_relative_error(&r, &t, block, 0.01);
-    println!("flip_mean={:.5}", flip.mean);
-    println!("flip_p99={:.5}", flip.p99);
-    println!("relmse={:.6}", crate::metrics::rel_mse(&r, &t));
-    println!("psnr_db={:.3}", crate::metrics::psnr(&r, &t));
-    println!("block{block}_rel_err_mean={:.5}", b.mean);
-    println!("block{block}_rel_err_p95={:.5}", b.p95);
-    println!("block{block}_rel_err_max={:.5}", b.max);
-    println!("luminance_ratio={:.5}", b.luminance_ratio);
+    out!("flip_mean={:.5}", flip.mean);
+    out!("flip_p99={:.5}", flip.p99);
+    out!("relmse={:.6}", crate::metrics::rel_mse(&r, &t));
+    out!("psnr_db={:.3}", crate::metrics::psnr(&r, &t));
+    out!("block{block}_rel_err_mean={:.5}", b.mean);
+    out!("block{block}_rel_err_p95={:.5}", b.p95);
+    out!("block{block}_rel_err_max={:.5}", b.max);
+    out!("luminance_ratio={:.5}", b.luminance_ratio);
     Ok(())
 }
 

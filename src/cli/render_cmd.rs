@@ -177,7 +177,7 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
         _ => "wall clock, each pass submitted alone",
     };
     let outs: Vec<String> = args.out.iter().map(|p| p.display().to_string()).collect();
-    println!(
+    out!(
         "wrote {} ({}x{}); {} frames in {:.2} s; median {:.2} ms/frame wall; sum of pass medians {:.2} ms ({how})",
         outs.join(", "),
         args.size.0,
@@ -189,15 +189,15 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
     );
     for (name, ms) in renderer.executor.pass_names().iter().zip(&pass_ms) {
         if !ms.is_empty() {
-            println!("  {name:<16} {:8.3} ms (median)", median(ms));
+            out!("  {name:<16} {:8.3} ms (median)", median(ms));
         }
     }
     if pid.is_some() {
-        println!("  mask threshold (PID): {:.4}", renderer.mask_threshold);
+        out!("  mask threshold (PID): {:.4}", renderer.mask_threshold);
     }
     if let Some(reuse) = renderer.executor.read_resource(&gpu, REFLECT_REUSE) {
         let s = ReuseShare::of(&reuse?);
-        println!(
+        out!(
             "  reflections: {:.1}% of reflection rays reused from screen space ({} of {} specular pixels, last frame)",
             s.share() * 100.0,
             s.reused,
@@ -205,6 +205,6 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
         );
     }
     let mem = compiled.schedule.memory(args.size);
-    println!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);
+    out!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);
     Ok(())
 }

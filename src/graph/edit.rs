@@ -67,7 +67,7 @@ impl GraphEdits {
     /// (it checks params against the shader's uniform).
     pub fn apply(&self, desc: &FrameGraph) -> Result<FrameGraph, String> {
         let mut g = desc.clone();
-        let known = || g_names(desc);
+        let known = || pass_list(desc);
         for s in &self.set {
             let pass = g
                 .passes
@@ -94,7 +94,7 @@ impl GraphEdits {
     }
 }
 
-fn g_names(desc: &FrameGraph) -> String {
+fn pass_list(desc: &FrameGraph) -> String {
     desc.passes.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
 }
 
