@@ -9,20 +9,37 @@ const TLAS_LEAF: u32 = 0x80000000u;
 const INSTANCE_SPHERE: u32 = 0u;
 const INSTANCE_MESH: u32 = 1u;
 
+// (bmin, left_first) and (bmax, count), the u32s as float bits: two vec4
+// loads per node (a struct of vec3 + u32 members is four loads on CPU
+// drivers, each a loop over the SIMD lanes).
 struct BvhNode {
-    bmin: vec3f,
-    left_first: u32,
-    bmax: vec3f,
-    count: u32,
+    lo: vec4f,
+    hi: vec4f,
 }
 
+fn node_first(n: BvhNode) -> u32 {
+    return bitcast<u32>(n.lo.w);
+}
+
+fn node_count(n: BvhNode) -> u32 {
+    return bitcast<u32>(n.hi.w);
+}
+
+// v = (kind, index, _, _): index is the sphere, or the node of the mesh's
+// BLAS root. One vec4 member: one load.
 struct Instance {
-    kind: u32,
-    // Sphere index, or the node index of the mesh's BLAS root.
-    index: u32,
-    _pad0: u32,
-    _pad1: u32,
+    v: vec4u,
 }
 
 @group(1) @binding(6) var<storage, read> scene_bvh: array<BvhNode>;
 @group(1) @binding(7) var<storage, read> scene_instances: array<Instance>;
+
+// A BLAS node as one u32: first child / first triangle in the low bits,
+// the leaf's triangle count (0: interior) in the top three (BLAS leaves
+// hold at most MAX_LEAF = 4; a binding holds far fewer than 2^29 nodes).
+const REF_COUNT_SHIFT: u32 = 29u;
+const REF_FIRST: u32 = 0x1fffffffu;
+
+fn node_ref(n: BvhNode) -> u32 {
+    return node_first(n) | (node_count(n) << REF_COUNT_SHIFT);
+}

@@ -42,14 +42,16 @@ struct Ray {
     o: vec3f,
     d: vec3f,
     inv: vec3f,
-    // perm * v = (v[kx], v[ky], v[kz]): a matrix instead of dynamic vector
-    // indexing, which CPU drivers turn into memory traffic. Exact (0/1 entries).
-    perm: mat3x3f,
+    // permute(r, v) = (v[kx], v[ky], v[kz]) by selects: (kx, ky, kz) == 1
+    // and == 2 per component. Dynamic vector indexing becomes memory
+    // traffic on CPU drivers, a 0/1 matrix product costs 15 flops.
+    is1: vec3<bool>,
+    is2: vec3<bool>,
     s: vec3f,
 }
 
-fn unit_axis(k: u32) -> vec3f {
-    return vec3f(f32(k == 0u), f32(k == 1u), f32(k == 2u));
+fn permute(r: Ray, v: vec3f) -> vec3f {
+    return select(select(vec3f(v.x), vec3f(v.y), r.is1), vec3f(v.z), r.is2);
 }
 
 // 1/d with tiny components replaced by +-1e30 (keeps 0 * inf out of the slabs).
@@ -74,10 +76,10 @@ fn make_ray(o: vec3f, d: vec3f) -> Ray {
         kx = ky;
         ky = t;
     }
-    let perm = transpose(mat3x3f(unit_axis(kx), unit_axis(ky), unit_axis(kz)));
-    let pd = perm * d;
-    let s = vec3f(pd.x / pd.z, pd.y / pd.z, 1.0 / pd.z);
-    return Ray(o, d, safe_inverse(d), perm, s);
+    let k = vec3u(kx, ky, kz);
+    let r = Ray(o, d, safe_inverse(d), k == vec3u(1u), k == vec3u(2u), vec3f(0.0));
+    let pd = permute(r, d);
+    return Ray(o, d, r.inv, r.is1, r.is2, vec3f(pd.x / pd.z, pd.y / pd.z, 1.0 / pd.z));
 }
 
 // Entry distance of the box in [0, tmax], or -1 on a miss.
@@ -106,9 +108,9 @@ fn diff_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
 
 // Watertight ray/triangle: (t, b1, b2) with t in (0, tmax), or t = -1.
 fn hit_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f, tmax: f32) -> vec3f {
-    let a = r.perm * (p0 - r.o);
-    let b = r.perm * (p1 - r.o);
-    let c = r.perm * (p2 - r.o);
+    let a = permute(r, p0 - r.o);
+    let b = permute(r, p1 - r.o);
+    let c = permute(r, p2 - r.o);
     let ax = a.x - r.s.x * a.z;
     let ay = a.y - r.s.y * a.z;
     let bx = b.x - r.s.x * b.z;
@@ -188,9 +190,13 @@ fn next_up(x: f32) -> f32 {
     return select(bitcast<f32>(bitcast<u32>(x) + 1u), bitcast<f32>(1u), x == 0.0);
 }
 
-// The traversal stack: (node, entry distance bits). Module-scope private
-// memory is zero-initialised once per invocation, not once per call.
+// The traversal stacks: (node, entry distance bits). Module-scope private
+// memory is zero-initialised once per invocation, not once per call. The
+// TLAS and each BLAS have their own (their depths are bounded separately:
+// TLAS_MAX_DEPTH and BLAS_MAX_DEPTH in src/bvh/build.rs).
 var<private> stack: array<vec2u, STACK_SIZE>;
+var<private> tlas_stack: array<vec2u, TLAS_STACK_SIZE>;
+const TLAS_STACK_SIZE: u32 = 16u;
 
 struct Closest {
     t: f32,
@@ -210,17 +216,24 @@ override BRUTE_FORCE: bool = false;
 fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
     for (var i = 0u; i < frame.n_spheres; i++) {
-        let s = scene_spheres[i];
-        let t = ray_sphere(r.o, r.d, s.center, s.radius, 0.0, next_up(best.t));
-        if t > 0.0 && t < tmax && closer(t, i | SPHERE_BIT, best) {
-            best = Closest(t, i | SPHERE_BIT, vec2f(0.0));
-            if any_hit {
-                return best;
-            }
+        if test_sphere(r, i, tmax, any_hit, &best) {
+            return best;
         }
     }
     test_triangles(r, 0u, frame.n_triangles, tmax, any_hit, &best);
     return best;
+}
+
+// Tests sphere i into `best`; true when any_hit and it was hit (stop).
+fn test_sphere(r: Ray, i: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
+    let s = scene_spheres[i];
+    let t = ray_sphere(r.o, r.d, s.geo.xyz, s.geo.w, 0.0, next_up((*best).t));
+    let prim = i | SPHERE_BIT;
+    if t > 0.0 && t < tmax && closer(t, prim, *best) {
+        *best = Closest(t, prim, vec2f(0.0));
+        return any_hit;
+    }
+    return false;
 }
 
 // Tests triangles first .. first + count into `best`; true when any_hit
@@ -228,7 +241,7 @@ fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
 fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
     for (var i = first; i < first + count; i++) {
         let tri = scene_triangles[i];
-        let h = hit_triangle(r, tri.p0, tri.p1, tri.p2, next_up((*best).t));
+        let h = hit_triangle(r, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up((*best).t));
         if h.x > 0.0 && h.x < tmax && closer(h.x, i, *best) {
             *best = Closest(h.x, i, h.yz);
             if any_hit {
@@ -245,7 +258,82 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
 // The result is identical either way (ties go to the lower id).
 const FLAT_LIMIT: u32 = 32u;
 
-// Traverses the BVH. any_hit: stop at the first hit (shadow rays).
+// Why the loops below look the way they do: SIMD CPU drivers (lavapipe)
+// run every branch of a loop body under a lane mask, taken or not, so an
+// iteration costs the sum of all its paths. The TLAS loop (few steps)
+// holds the instance code; the BLAS loop (most steps) holds only boxes
+// and triangles. The visited node stays in registers; only the farther
+// child of a pair goes through the stack (dynamically indexed private
+// memory is expensive there too).
+
+// Traverses the BLAS at `root` (its box already hit) into `best`; true
+// when any_hit and something was hit (stop).
+fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
+    // The node to visit as a packed reference (node_ref): what a visit
+    // needs is in the parent's child loads, so no step reloads a node.
+    var current = node_ref(scene_bvh[root]);
+    var have_current = true;
+    var sp = 0u;
+    // Triangles of the last leaf reached still to test: one per step,
+    // while the node walk goes on to the next leaf.
+    var tri = 0u;
+    var tri_end = 0u;
+    for (var steps = 0u; steps < MAX_STEPS; steps++) {
+        var popped = have_current;
+        if !have_current && sp > 0u {
+            sp -= 1u;
+            let top = stack[sp];
+            // The same slack hit_box gives its far bound.
+            popped = bitcast<f32>(top.y) <= (*best).t * IZE_SCALE;
+            current = top.x;
+        }
+        if popped {
+            let first = current & REF_FIRST;
+            let count = current >> REF_COUNT_SHIFT;
+            if count > 0u {
+                // A leaf waits until the previous leaf's triangles are done.
+                have_current = tri < tri_end;
+                if !have_current {
+                    tri = first;
+                    tri_end = first + count;
+                }
+            } else {
+                let na = scene_bvh[first];
+                let nb = scene_bvh[first + 1u];
+                let ta = hit_box(r, na.lo.xyz, na.hi.xyz, (*best).t);
+                let tb = hit_box(r, nb.lo.xyz, nb.hi.xyz, (*best).t);
+                // Visit the nearer next; push the farther.
+                let swap = tb >= 0.0 && (ta < 0.0 || tb < ta);
+                let t_first = select(ta, tb, swap);
+                let t_second = select(tb, ta, swap);
+                let ref_a = node_ref(na);
+                let ref_b = node_ref(nb);
+                have_current = t_first >= 0.0;
+                current = select(ref_a, ref_b, swap);
+                if t_first >= 0.0 && t_second >= 0.0 && sp < STACK_SIZE {
+                    stack[sp] = vec2u(select(ref_b, ref_a, swap), bitcast<u32>(t_second));
+                    sp += 1u;
+                }
+            }
+        }
+        if tri < tri_end {
+            let t = scene_triangles[tri];
+            let h = hit_triangle(r, t.p0.xyz, t.p1.xyz, t.p2.xyz, next_up((*best).t));
+            if h.x > 0.0 && h.x < tmax && closer(h.x, tri, *best) {
+                *best = Closest(h.x, tri, h.yz);
+                if any_hit {
+                    return true;
+                }
+            }
+            tri += 1u;
+        } else if !have_current && sp == 0u {
+            break;
+        }
+    }
+    return false;
+}
+
+// Traverses the scene. any_hit: stop at the first hit (shadow rays).
 fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     // A NaN or infinite origin or direction is a miss, at once (infinities
     // would otherwise enter every box at t = 0 and walk the whole tree).
@@ -258,83 +346,59 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     }
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
     let root = scene_bvh[0];
-    let t_root = hit_box(r, root.bmin, root.bmax, tmax);
+    let t_root = hit_box(r, root.lo.xyz, root.hi.xyz, tmax);
     if t_root < 0.0 {
         return best;
     }
-    // The node being visited stays in registers; only the farther child of
-    // a pair (and BLAS roots) go through the stack: dynamically indexed
-    // private memory is the expensive part on SIMD CPUs (lavapipe).
+    // The loop ends at the bottom, so a TLAS that is one leaf (a single
+    // mesh) takes one trip: a trip that breaks at the top would still run
+    // the whole body, masked, on SIMD CPU drivers.
     var current = 0u;
-    var have_current = true;
     var sp = 0u;
     for (var steps = 0u; steps < MAX_STEPS; steps++) {
-        if !have_current {
-            if sp == 0u {
-                break;
-            }
-            sp -= 1u;
-            let top = stack[sp];
-            // The same slack hit_box gives its far bound.
-            if bitcast<f32>(top.y) > best.t * IZE_SCALE {
-                continue;
-            }
-            current = top.x;
-        }
-        have_current = false;
+        var next = false;
         let node = scene_bvh[current];
-        if (node.count & TLAS_LEAF) != 0u {
-            let end = node.left_first + (node.count & ~TLAS_LEAF);
-            for (var k = node.left_first; k < end; k++) {
+        if (node_count(node) & TLAS_LEAF) != 0u {
+            let end = node_first(node) + (node_count(node) & ~TLAS_LEAF);
+            for (var k = node_first(node); k < end; k++) {
                 let inst = scene_instances[k];
-                if inst.kind == INSTANCE_MESH {
-                    let blas = scene_bvh[inst.index];
-                    let tb = hit_box(r, blas.bmin, blas.bmax, best.t);
-                    if tb >= 0.0 && sp < STACK_SIZE {
-                        stack[sp] = vec2u(inst.index, bitcast<u32>(tb));
-                        sp += 1u;
+                // No box test before a BLAS: its root's children are
+                // tested first thing, and the leaf's box bounds the root.
+                if inst.v.x == INSTANCE_MESH {
+                    if traverse_blas(r, inst.v.y, tmax, any_hit, &best) {
+                        return best;
                     }
-                } else {
-                    let s = scene_spheres[inst.index];
-                    let t = ray_sphere(r.o, r.d, s.center, s.radius, 0.0, next_up(best.t));
-                    let prim = inst.index | SPHERE_BIT;
-                    if t > 0.0 && t < tmax && closer(t, prim, best) {
-                        best = Closest(t, prim, vec2f(0.0));
-                        if any_hit {
-                            return best;
-                        }
-                    }
+                } else if test_sphere(r, inst.v.y, tmax, any_hit, &best) {
+                    return best;
                 }
             }
-        } else if node.count > 0u {
-            if test_triangles(r, node.left_first, node.count, tmax, any_hit, &best) {
-                return best;
-            }
         } else {
-            let a = node.left_first;
+            let a = node_first(node);
             let na = scene_bvh[a];
             let nb = scene_bvh[a + 1u];
-            let ta = hit_box(r, na.bmin, na.bmax, best.t);
-            let tb = hit_box(r, nb.bmin, nb.bmax, best.t);
-            // Visit the nearer now; push the farther.
-            var first = a;
-            var second = a + 1u;
-            var t_first = ta;
-            var t_second = tb;
-            if tb >= 0.0 && (ta < 0.0 || tb < ta) {
-                first = a + 1u;
-                second = a;
-                t_first = tb;
-                t_second = ta;
-            }
+            let ta = hit_box(r, na.lo.xyz, na.hi.xyz, best.t);
+            let tb = hit_box(r, nb.lo.xyz, nb.hi.xyz, best.t);
+            let swap = tb >= 0.0 && (ta < 0.0 || tb < ta);
+            let t_first = select(ta, tb, swap);
+            let t_second = select(tb, ta, swap);
             if t_first >= 0.0 {
-                current = first;
-                have_current = true;
-                if t_second >= 0.0 && sp < STACK_SIZE {
-                    stack[sp] = vec2u(second, bitcast<u32>(t_second));
+                current = select(a, a + 1u, swap);
+                next = true;
+                if t_second >= 0.0 && sp < TLAS_STACK_SIZE {
+                    tlas_stack[sp] = vec2u(select(a + 1u, a, swap), bitcast<u32>(t_second));
                     sp += 1u;
                 }
             }
+        }
+        // The same slack hit_box gives its far bound.
+        while !next && sp > 0u {
+            sp -= 1u;
+            let top = tlas_stack[sp];
+            next = bitcast<f32>(top.y) <= best.t * IZE_SCALE;
+            current = top.x;
+        }
+        if !next {
+            break;
         }
     }
     return best;
@@ -348,16 +412,19 @@ fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     }
     if (c.prim & SPHERE_BIT) != 0u {
         let s = scene_spheres[c.prim & ~SPHERE_BIT];
-        let n = normalize(ro + c.t * rd - s.center);
-        return Hit(c.t, s.center + s.radius * n, n, n, s.material, s.object, s.light);
+        let n = normalize(ro + c.t * rd - s.geo.xyz);
+        return Hit(c.t, s.geo.xyz + s.geo.w * n, n, n, s.ids.x, s.ids.z, bitcast<i32>(s.ids.y));
     }
     let tri = scene_triangles[c.prim];
-    let gn = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+    let p0 = tri.p0.xyz;
+    let p1 = tri.p1.xyz;
+    let p2 = tri.p2.xyz;
+    let gn = normalize(cross(p1 - p0, p2 - p0));
     let tn = scene_normals[c.prim];
     var sn = (1.0 - c.uv.x - c.uv.y) * tn.n0 + c.uv.x * tn.n1 + c.uv.y * tn.n2;
     sn = select(gn, normalize(sn), dot(sn, sn) > 1e-12);
-    let p = (1.0 - c.uv.x - c.uv.y) * tri.p0 + c.uv.x * tri.p1 + c.uv.y * tri.p2;
-    return Hit(c.t, p, gn, sn, tri.material, tri.object, -1);
+    let p = (1.0 - c.uv.x - c.uv.y) * p0 + c.uv.x * p1 + c.uv.y * p2;
+    return Hit(c.t, p, gn, sn, bitcast<u32>(tri.p0.w), bitcast<u32>(tri.p1.w), -1);
 }
 
 // Whether anything blocks the ray in (0, tmax) (shadow rays; exits early).

@@ -1,23 +1,21 @@
 // Scene buffers (mirrors src/scene/gpu_types.rs). Counts live in `frame`.
 #import frame
 
+// Sphere and Triangle are read as whole vec4s: each load of a member is a
+// loop over the SIMD lanes on CPU drivers (lavapipe), so fewer, wider
+// members are faster; the layout is that of src/scene/gpu_types.rs.
+// geo = (center, radius); ids = (material, light as i32 bits, object, _).
 struct Sphere {
-    center: vec3f,
-    radius: f32,
-    material: u32,
-    light: i32,
-    object: u32,
-    _pad: u32,
+    geo: vec4f,
+    ids: vec4u,
 }
 
 // What intersection reads (48 bytes); shading normals live apart.
+// p0 = (p0, material bits), p1 = (p1, object bits), p2 = (p2, _).
 struct Triangle {
-    p0: vec3f,
-    material: u32,
-    p1: vec3f,
-    object: u32,
-    p2: vec3f,
-    _pad0: u32,
+    p0: vec4f,
+    p1: vec4f,
+    p2: vec4f,
 }
 
 struct TriangleNormals {
