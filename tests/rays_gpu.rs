@@ -38,3 +38,74 @@ fn check_special_rays(gpu: &glint::gpu::Gpu, scene: &str) {
     // Axis rays from inside the Cornell box hit the walls.
     assert!(finite_hits > 0);
 }
+
+/// The GPU traversal finds exactly what testing every primitive finds:
+/// the bench-rays graph's primary hits (point and distance) and its shadow
+/// and diffuse results, with and without the BVH (BRUTE_FORCE), bit for
+/// bit, on a random triangle soup with spheres in it and on a scene file.
+#[test]
+fn gpu_bvh_matches_brute_force_bit_for_bit() {
+    let Some(gpu) = gpu() else { return };
+    let dir = scratch("bvh-vs-brute");
+    let obj = dir.join("soup.obj");
+    std::fs::write(&obj, random_soup(3000, 7)).expect("write soup");
+    let soup = format!(
+        r#"Scene(
+            camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
+            materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
+            objects: [
+                Mesh(path: "{}", material: "grey"),
+                Sphere(center: (0.2, 0.1, 0.3), radius: 0.25, material: "grey"),
+                Sphere(center: (-0.4, -0.3, -0.2), radius: 0.3, material: "grey"),
+            ],
+        )"#,
+        obj.display()
+    );
+    let size = (96, 96);
+    for (name, text) in [("soup", Some(soup)), ("moving-lights", None)] {
+        let scene = || text.as_deref().map_or_else(|| load_scene("moving-lights.ron"), scene_from);
+        for output in ["bench_hit", "bench_out"] {
+            let bvh = bench_rays(gpu, scene(), size, output, false);
+            let brute = bench_rays(gpu, scene(), size, output, true);
+            let differ = bvh.data.iter().zip(&brute.data).filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits)).count();
+            assert_eq!(differ, 0, "{name}: {differ} pixels of {output} differ between the BVH and brute force");
+            if output == "bench_hit" {
+                let hits = bvh.data.iter().filter(|p| p[3] > 0.0).count();
+                assert!(hits > bvh.data.len() / 10, "{name}: only {hits} primary hits; the test would prove little");
+            }
+        }
+    }
+}
+
+fn bench_rays(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, size: (u32, u32), output: &str, brute_force: bool) -> glint::gpu::readback::ImageF32 {
+    let options = glint::graph::CompileOptions { output: Some(output.to_string()), ..Default::default() };
+    let graph = repo().join("passes/bench-rays.ron");
+    let mut compiled = glint::graph::load_and_compile(&graph, &repo().join("shaders"), &scene.features, &options).unwrap_or_else(|e| panic!("{e}"));
+    if brute_force {
+        for pass in &mut compiled.schedule.passes {
+            pass.constants.push(("BRUTE_FORCE".into(), 1.0));
+        }
+    }
+    let mut r = glint::render::Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
+    r.frame(gpu, 0.0, glint::graph::executor::Timing::None).unwrap_or_else(|e| panic!("{e}"));
+    r.read_output(gpu).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `n` random triangles (some long and thin) in [-1, 1]^3 as OBJ text.
+fn random_soup(n: usize, seed: u64) -> String {
+    let mut state = seed;
+    let mut next = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    };
+    let mut text = String::new();
+    for i in 0..n {
+        let c = [next(), next(), next()];
+        let size = if i % 7 == 0 { 0.8 } else { 0.08 };
+        for _ in 0..3 {
+            text += &format!("v {} {} {}\n", c[0] + size * next(), c[1] + size * next(), c[2] + size * next());
+        }
+        text += &format!("f {} {} {}\n", 3 * i + 1, 3 * i + 2, 3 * i + 3);
+    }
+    text
+}

@@ -5,6 +5,8 @@ mod common;
 
 use common::repo;
 use glint::gpu::frame::{CameraGpu, FrameGpu};
+use glint::bvh::scene::InstanceGpu;
+use glint::bvh::BvhNode;
 use glint::scene::{LightGpu, MaterialGpu, MeshGpu, SphereGpu, TriangleGpu, TriangleNormalsGpu};
 use std::mem::{offset_of, size_of};
 
@@ -52,12 +54,45 @@ fn wgsl_structs_match_rust() {
     }
     check!("Camera", CameraGpu, [origin, tan_half_fov, right, aspect, up, forward]);
     check!("Frame", FrameGpu, [camera, prev_camera, size, frame_index, accum_count, time, seed, scene_epoch, n_spheres, n_instances, n_triangles, n_lights, mask_threshold, background]);
-    check!("Sphere", SphereGpu, [center, radius, material, light, object]);
-    check!("Triangle", TriangleGpu, [p0, material, p1, object, p2]);
     check!("TriangleNormals", TriangleNormalsGpu, [n0, n1, n2]);
     check!("Mesh", MeshGpu, [bmin, first, bmax, count]);
     check!("Material", MaterialGpu, [albedo, specular, emission, roughness]);
     check!("Light", LightGpu, [position, radius, color, kind]);
+    // Structs the shaders read as whole vec4s: each WGSL member holds the
+    // Rust fields at the given byte offsets into it (a vec3 at 0, then w at 12).
+    packed(m, "Sphere", size_of::<SphereGpu>(), &[
+        ("geo", &[("center", offset_of!(SphereGpu, center), 0), ("radius", offset_of!(SphereGpu, radius), 12)]),
+        ("ids", &[("material", offset_of!(SphereGpu, material), 0), ("light", offset_of!(SphereGpu, light), 4), ("object", offset_of!(SphereGpu, object), 8)]),
+    ]);
+    packed(m, "Triangle", size_of::<TriangleGpu>(), &[
+        ("p0", &[("p0", offset_of!(TriangleGpu, p0), 0), ("material", offset_of!(TriangleGpu, material), 12)]),
+        ("p1", &[("p1", offset_of!(TriangleGpu, p1), 0), ("object", offset_of!(TriangleGpu, object), 12)]),
+        ("p2", &[("p2", offset_of!(TriangleGpu, p2), 0)]),
+    ]);
+    let bvh = glint::shader::load(&repo().join("shaders"), "shared/bvh.wgsl").unwrap_or_else(|e| panic!("{e}"));
+    packed(&bvh.module, "BvhNode", size_of::<BvhNode>(), &[
+        ("lo", &[("bmin", offset_of!(BvhNode, bmin), 0), ("left_first", offset_of!(BvhNode, left_first), 12)]),
+        ("hi", &[("bmax", offset_of!(BvhNode, bmax), 0), ("count", offset_of!(BvhNode, count), 12)]),
+    ]);
+    packed(&bvh.module, "Instance", size_of::<InstanceGpu>(), &[
+        ("v", &[("kind", offset_of!(InstanceGpu, kind), 0), ("index", offset_of!(InstanceGpu, index), 4)]),
+    ]);
+}
+
+/// (Rust field, its offset, where it must sit in the WGSL member).
+type Lanes<'a> = &'a [(&'a str, usize, usize)];
+
+/// Checks a WGSL struct of vec4 members against its Rust mirror: the same
+/// size, and each member's Rust fields where the member says.
+fn packed(m: &naga::Module, wgsl: &str, rust_size: usize, members: &[(&str, Lanes)]) {
+    let (size, layout) = wgsl_layout(m, wgsl);
+    assert_eq!(size as usize, rust_size, "size of {wgsl}");
+    for (member, fields) in members {
+        let base = layout.iter().find(|(n, _)| n == member).unwrap_or_else(|| panic!("{wgsl}.{member}")).1 as usize;
+        for (field, offset, within) in fields.iter() {
+            assert_eq!(*offset, base + within, "{wgsl}.{member}: Rust field {field}");
+        }
+    }
 }
 
 #[test]

@@ -11,8 +11,11 @@ use glam::{Vec3, Vec3A, Vec4};
 
 use super::Aabb;
 
-/// Leaves hold at most this many primitives.
+/// Leaves hold at most this many primitives. The shader packs a BLAS
+/// node's count into the top three bits of a u32 (REF_COUNT_SHIFT in
+/// shaders/shared/bvh.wgsl), so this must stay below 8.
 pub const MAX_LEAF: usize = 4;
+const _: () = assert!(MAX_LEAF < 8);
 /// Nodes this small become leaves without evaluating the SAH: splitting a
 /// handful of triangles saves little traversal (measured on a 1M-triangle
 /// knot: same Mrays/s) and costs a third of the build time and half the nodes.
@@ -129,9 +132,9 @@ struct Task {
     depth: u32,
 }
 
-/// Default depth bound of a BLAS. The shader's traversal stack (64
-/// entries) grows by at most one per level, so a TLAS (`TLAS_MAX_DEPTH`),
-/// a leaf's instances and a BLAS must fit in it together.
+/// Default depth bound of a BLAS. The shader's traversal stacks grow by
+/// at most one entry per level: the BLAS stack has 64 entries, the TLAS
+/// stack 16 (`TLAS_MAX_DEPTH`).
 pub const BLAS_MAX_DEPTH: u32 = 44;
 pub const TLAS_MAX_DEPTH: u32 = 16;
 
