@@ -13,7 +13,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if ids.y == 0xffffffffu {
+    if ids.y == NO_OBJECT {
         textureStore(albedo, id.xy, vec4f(frame.background, 1.0));
         textureStore(lit, id.xy, vec4f(frame.background, 1.0));
         return;

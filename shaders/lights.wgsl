@@ -33,7 +33,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let before = textureLoad(lit_in, id.xy, 0);
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if ids.y == 0xffffffffu || is_emissive(scene_materials[ids.x]) {
+    if !is_lit_surface(ids) {
         textureStore(lit, id.xy, before);
         return;
     }

@@ -28,7 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let before = textureLoad(lit_in, id.xy, 0);
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if textureLoad(mask, id.xy, 0).x < 0.5 || ids.y == 0xffffffffu || is_emissive(scene_materials[ids.x]) {
+    if textureLoad(mask, id.xy, 0).x < 0.5 || !is_lit_surface(ids) {
         textureStore(lit, id.xy, before);
         return;
     }

@@ -52,7 +52,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let before = textureLoad(lit_in, id.xy, 0);
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if ids.y == 0xffffffffu || scene_materials[ids.x].specular <= 0.0 || is_emissive(scene_materials[ids.x]) {
+    if !is_lit_surface(ids) || scene_materials[ids.x].specular <= 0.0 {
         textureStore(lit, id.xy, before);
         textureStore(reflect_reuse, id.xy, vec4f(-1.0, 0.0, 0.0, 1.0));
         return;

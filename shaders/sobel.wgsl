@@ -19,17 +19,13 @@ fn luminance(c: vec3f) -> f32 {
     return dot(c, vec3f(0.2126, 0.7152, 0.0722));
 }
 
-fn is_surface(ids: vec4u) -> bool {
-    return ids.y != 0xffffffffu && !is_emissive(scene_materials[ids.x]);
-}
-
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if !is_surface(ids) {
+    if !is_lit_surface(ids) {
         textureStore(edges, id.xy, vec4f(0.0));
         return;
     }
@@ -40,7 +36,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         for (var i = 0; i < 3; i++) {
             let q = clamp(vec2i(id.xy) + vec2i(i - 1, j - 1), vec2i(0), vec2i(frame.size) - 1);
             let nq = textureLoad(gbuf_normal, q, 0).xyz;
-            let ok = is_surface(textureLoad(gbuf_id, q, 0)) && dot(n, nq) >= params.normal_cos;
+            let ok = is_lit_surface(textureLoad(gbuf_id, q, 0)) && dot(n, nq) >= params.normal_cos;
             v[j * 3 + i] = select(centre, luminance(textureLoad(lit, q, 0).rgb), ok);
         }
     }

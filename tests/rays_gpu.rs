@@ -79,16 +79,13 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
 
 fn bench_rays(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, size: (u32, u32), output: &str, brute_force: bool) -> glint::gpu::readback::ImageF32 {
     let options = glint::graph::CompileOptions { output: Some(output.to_string()), ..Default::default() };
-    let graph = repo().join("passes/bench-rays.ron");
-    let mut compiled = glint::graph::load_and_compile(&graph, &repo().join("shaders"), &scene.features, &options).unwrap_or_else(|e| panic!("{e}"));
+    let mut compiled = compile(&scene, &repo().join("passes/bench-rays.ron"), &options);
     if brute_force {
         for pass in &mut compiled.schedule.passes {
             pass.constants.push(("BRUTE_FORCE".into(), 1.0));
         }
     }
-    let mut r = glint::render::Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
-    r.frame(gpu, 0.0, glint::graph::executor::Timing::None).unwrap_or_else(|e| panic!("{e}"));
-    r.read_output(gpu).unwrap_or_else(|e| panic!("{e}"))
+    render_compiled(gpu, scene, &compiled, size, 1)
 }
 
 /// `n` random triangles (some long and thin) in [-1, 1]^3 as OBJ text.

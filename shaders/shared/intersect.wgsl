@@ -6,7 +6,7 @@
 // Mirrored in Rust by src/bvh/ray.rs.
 #import bvh
 
-const NO_HIT: u32 = 0xffffffffu;
+const NO_HIT: u32 = NO_OBJECT;
 const SPHERE_BIT: u32 = 0x80000000u;
 const STACK_SIZE: u32 = 64u;
 // Far more steps than any valid traversal takes: a hard stop.

@@ -61,3 +61,13 @@ struct Light {
 fn is_emissive(m: Material) -> bool {
     return max(m.emission.x, max(m.emission.y, m.emission.z)) > 0.0;
 }
+
+// gbuf_id's object (y) where the pixel's ray hit nothing (as NO_HIT in
+// intersect.wgsl).
+const NO_OBJECT: u32 = 0xffffffffu;
+
+// Whether a G-buffer id (material, object) is a surface that light falls
+// on: a hit, and not an emitter (those show their own emission).
+fn is_lit_surface(ids: vec4u) -> bool {
+    return ids.y != NO_OBJECT && !is_emissive(scene_materials[ids.x]);
+}

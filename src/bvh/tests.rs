@@ -957,6 +957,18 @@ struct SelfHits {
 }
 
 impl SelfHits {
+    /// A shadow ray from `o` to an unoccluded `light` (when one can be cast)
+    /// must not be blocked.
+    fn shadow_ray(&mut self, g: &Geometry, o: Vec3, light: Vec3, what: &str) {
+        if let Some(blocked) = shadow_blocked(g, o, light) {
+            self.shadow_rays += 1;
+            if blocked {
+                self.blocked += 1;
+                self.fail(format!("{what}: the shadow ray from {o:?} to {light:?} is blocked"));
+            }
+        }
+    }
+
     fn fail(&mut self, what: String) {
         if self.examples.len() < 10 {
             self.examples.push(what);
@@ -1084,13 +1096,7 @@ fn self_intersection_triangles(seed: u64, cases: usize, min_ulps: f64, far: f64,
             if (d(light) - a).dot(facing) <= 1e-3 * (d(light) - d(p)).length() {
                 continue;
             }
-            if let Some(blocked) = shadow_blocked(&g, o2, light) {
-                stats.shadow_rays += 1;
-                if blocked {
-                    stats.blocked += 1;
-                    stats.fail(format!("{what}: the shadow ray from {o2:?} to {light:?} is blocked"));
-                }
-            }
+            stats.shadow_ray(&g, o2, light, &what);
         }
     }
     stats
@@ -1149,13 +1155,7 @@ fn self_intersection_spheres(seed: u64, cases: usize, min_ulps: f32, far: f64, h
             if (a + (b - a) * s - cd).length() <= rd * (1.0 + 1e-6) {
                 continue;
             }
-            if let Some(blocked) = shadow_blocked(&g, o2, light) {
-                stats.shadow_rays += 1;
-                if blocked {
-                    stats.blocked += 1;
-                    stats.fail(format!("{what}: the shadow ray from {o2:?} to {light:?} is blocked"));
-                }
-            }
+            stats.shadow_ray(&g, o2, light, &what);
         }
     }
     stats

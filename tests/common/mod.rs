@@ -51,9 +51,18 @@ pub fn render(
 
 /// `render` with full compile options (graph edits included).
 pub fn render_with(gpu: &Gpu, scene: Scene, graph_path: &Path, size: (u32, u32), frames: u32, options: &CompileOptions) -> ImageF32 {
-    let compiled = graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.features, options)
-        .unwrap_or_else(|e| panic!("{e}"));
-    let mut r = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
+    let compiled = compile(&scene, graph_path, options);
+    render_compiled(gpu, scene, &compiled, size, frames)
+}
+
+/// The graph compiled for `scene` (to adjust before `render_compiled`).
+pub fn compile(scene: &Scene, graph_path: &Path, options: &CompileOptions) -> graph::CompiledGraph {
+    graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.features, options).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Renders `frames` frames of an already compiled graph; its output.
+pub fn render_compiled(gpu: &Gpu, scene: Scene, compiled: &graph::CompiledGraph, size: (u32, u32), frames: u32) -> ImageF32 {
+    let mut r = Renderer::new(gpu, scene, compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
     for _ in 0..frames {
         r.frame(gpu, 0.0, glint::graph::executor::Timing::None).unwrap_or_else(|e| panic!("{e}"));
     }
