@@ -7,7 +7,7 @@ use wgpu::util::DeviceExt;
 use crate::error::UserError;
 use crate::gpu::frame::{CameraGpu, FrameGpu};
 use crate::gpu::readback::ImageF32;
-use crate::gpu::scene_buffers::SceneBuffers;
+use crate::gpu::scene_buffers::{scene_texture_rows, SceneBuffers, SCENE_TEXTURE_WIDTH};
 use crate::bvh::scene::{BuildStats, SceneBvh};
 use crate::gpu::Gpu;
 use crate::graph::executor::{Executor, Timing};
@@ -53,24 +53,40 @@ pub fn check_size(gpu: &Gpu, size: (u32, u32)) -> Result<(), UserError> {
     Ok(())
 }
 
-/// Every scene array must fit one storage binding on this adapter.
-fn check_buffer_sizes(gpu: &Gpu, data: &crate::scene::SceneData) -> Result<(), UserError> {
-    let limit = gpu.device.limits().max_storage_buffer_binding_size;
-    let arrays = [
+/// Every scene array must fit its binding on this adapter: the texture
+/// arrays within the largest texture side in rows, the storage arrays
+/// within one storage binding.
+fn check_scene_sizes(gpu: &Gpu, data: &crate::scene::SceneData) -> Result<(), UserError> {
+    let too_big = |what: &str, count: usize, bytes: usize, limit: String| {
+        UserError::new(format!(
+            "the scene has {count} {what} ({:.0} MiB), more than {limit} on this adapter ({}); use fewer or smaller meshes",
+            bytes as f64 / 1048576.0,
+            gpu.describe()
+        ))
+    };
+    let max_rows = u64::from(gpu.max_texture_side());
+    let textures = [
         ("triangles", std::mem::size_of_val(data.triangles.as_slice()), data.triangles.len()),
         ("triangle normals", std::mem::size_of_val(data.normals.as_slice()), data.normals.len()),
         ("BVH nodes", std::mem::size_of_val(data.bvh.as_slice()), data.bvh.len()),
         ("spheres", std::mem::size_of_val(data.spheres.as_slice()), data.spheres.len()),
+        ("instances", std::mem::size_of_val(data.instances.as_slice()), data.instances.len()),
     ];
-    for (what, bytes, count) in arrays {
+    for (what, bytes, count) in textures {
+        if scene_texture_rows(bytes) > max_rows {
+            let limit = format!("{max_rows} rows of {SCENE_TEXTURE_WIDTH} texels hold");
+            return Err(too_big(what, count, bytes, limit));
+        }
+    }
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let buffers = [
+        ("meshes", std::mem::size_of_val(data.meshes.as_slice()), data.meshes.len()),
+        ("materials", std::mem::size_of_val(data.materials.as_slice()), data.materials.len()),
+        ("lights", std::mem::size_of_val(data.lights.as_slice()), data.lights.len()),
+    ];
+    for (what, bytes, count) in buffers {
         if bytes as u64 > limit {
-            return Err(UserError::new(format!(
-                "the scene has {count} {what} ({:.0} MiB), more than this adapter binds in one buffer ({:.0} MiB, {}); \
-                 use fewer or smaller meshes",
-                bytes as f64 / 1048576.0,
-                limit as f64 / 1048576.0,
-                gpu.describe()
-            )));
+            return Err(too_big(what, count, bytes, format!("one buffer binding holds ({:.0} MiB)", limit as f64 / 1048576.0)));
         }
     }
     Ok(())
@@ -82,8 +98,8 @@ impl Renderer {
         let mut bvh = SceneBvh::default();
         let mut data = scene.pack();
         let bvh_stats = bvh.update(&mut data);
-        check_buffer_sizes(gpu, &data)?;
-        let buffers = SceneBuffers::new(&gpu.device, data);
+        check_scene_sizes(gpu, &data)?;
+        let buffers = SceneBuffers::new(&gpu.device, &gpu.queue, data);
         let frame_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&FrameGpu::zeroed_frame()),

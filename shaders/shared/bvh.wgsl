@@ -9,9 +9,8 @@ const TLAS_LEAF: u32 = 0x80000000u;
 const INSTANCE_SPHERE: u32 = 0u;
 const INSTANCE_MESH: u32 = 1u;
 
-// (bmin, left_first) and (bmax, count), the u32s as float bits: two vec4
-// loads per node (a struct of vec3 + u32 members is four loads on CPU
-// drivers, each a loop over the SIMD lanes).
+// (bmin, left_first) and (bmax, count), the u32s as float bits: two
+// texels of the scene_bvh texture per node (see scene.wgsl).
 struct BvhNode {
     lo: vec4f,
     hi: vec4f,
@@ -26,13 +25,21 @@ fn node_count(n: BvhNode) -> u32 {
 }
 
 // v = (kind, index, _, _): index is the sphere, or the node of the mesh's
-// BLAS root. One vec4 member: one load.
+// BLAS root. One texel.
 struct Instance {
     v: vec4u,
 }
 
-@group(1) @binding(6) var<storage, read> scene_bvh: array<BvhNode>;
-@group(1) @binding(7) var<storage, read> scene_instances: array<Instance>;
+@group(1) @binding(6) var scene_bvh: texture_2d<u32>;
+@group(1) @binding(7) var scene_instances: texture_2d<u32>;
+
+fn load_node(i: u32) -> BvhNode {
+    return BvhNode(bitcast<vec4f>(scene_texel(scene_bvh, 2u * i)), bitcast<vec4f>(scene_texel(scene_bvh, 2u * i + 1u)));
+}
+
+fn load_instance(i: u32) -> Instance {
+    return Instance(scene_texel(scene_instances, i));
+}
 
 // A BLAS node as one u32: first child / first triangle in the low bits,
 // the leaf's triangle count (0: interior) in the top three (BLAS leaves

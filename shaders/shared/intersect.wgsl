@@ -226,7 +226,7 @@ fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
 
 // Tests sphere i into `best`; true when any_hit and it was hit (stop).
 fn test_sphere(r: Ray, i: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
-    let s = scene_spheres[i];
+    let s = load_sphere(i);
     let t = ray_sphere(r.o, r.d, s.geo.xyz, s.geo.w, 0.0, next_up((*best).t));
     let prim = i | SPHERE_BIT;
     if t > 0.0 && t < tmax && closer(t, prim, *best) {
@@ -240,7 +240,7 @@ fn test_sphere(r: Ray, i: u32, tmax: f32, any_hit: bool, best: ptr<function, Clo
 // and something was hit (stop).
 fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
     for (var i = first; i < first + count; i++) {
-        let tri = scene_triangles[i];
+        let tri = load_triangle(i);
         let h = hit_triangle(r, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up((*best).t));
         if h.x > 0.0 && h.x < tmax && closer(h.x, i, *best) {
             *best = Closest(h.x, i, h.yz);
@@ -271,7 +271,7 @@ const FLAT_LIMIT: u32 = 32u;
 fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
     // The node to visit as a packed reference (node_ref): what a visit
     // needs is in the parent's child loads, so no step reloads a node.
-    var current = node_ref(scene_bvh[root]);
+    var current = node_ref(load_node(root));
     var have_current = true;
     var sp = 0u;
     // Triangles of the last leaf reached still to test: one per step,
@@ -298,8 +298,8 @@ fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function
                     tri_end = first + count;
                 }
             } else {
-                let na = scene_bvh[first];
-                let nb = scene_bvh[first + 1u];
+                let na = load_node(first);
+                let nb = load_node(first + 1u);
                 let ta = hit_box(r, na.lo.xyz, na.hi.xyz, (*best).t);
                 let tb = hit_box(r, nb.lo.xyz, nb.hi.xyz, (*best).t);
                 // Visit the nearer next; push the farther.
@@ -317,7 +317,7 @@ fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function
             }
         }
         if tri < tri_end {
-            let t = scene_triangles[tri];
+            let t = load_triangle(tri);
             let h = hit_triangle(r, t.p0.xyz, t.p1.xyz, t.p2.xyz, next_up((*best).t));
             if h.x > 0.0 && h.x < tmax && closer(h.x, tri, *best) {
                 *best = Closest(h.x, tri, h.yz);
@@ -345,7 +345,7 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
         return brute_force(r, tmax, any_hit);
     }
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
-    let root = scene_bvh[0];
+    let root = load_node(0);
     let t_root = hit_box(r, root.lo.xyz, root.hi.xyz, tmax);
     if t_root < 0.0 {
         return best;
@@ -357,11 +357,11 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     var sp = 0u;
     for (var steps = 0u; steps < MAX_STEPS; steps++) {
         var next = false;
-        let node = scene_bvh[current];
+        let node = load_node(current);
         if (node_count(node) & TLAS_LEAF) != 0u {
             let end = node_first(node) + (node_count(node) & ~TLAS_LEAF);
             for (var k = node_first(node); k < end; k++) {
-                let inst = scene_instances[k];
+                let inst = load_instance(k);
                 // No box test before a BLAS: its root's children are
                 // tested first thing, and the leaf's box bounds the root.
                 if inst.v.x == INSTANCE_MESH {
@@ -374,8 +374,8 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
             }
         } else {
             let a = node_first(node);
-            let na = scene_bvh[a];
-            let nb = scene_bvh[a + 1u];
+            let na = load_node(a);
+            let nb = load_node(a + 1u);
             let ta = hit_box(r, na.lo.xyz, na.hi.xyz, best.t);
             let tb = hit_box(r, nb.lo.xyz, nb.hi.xyz, best.t);
             let swap = tb >= 0.0 && (ta < 0.0 || tb < ta);
@@ -411,16 +411,16 @@ fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
         return no_hit(tmax);
     }
     if (c.prim & SPHERE_BIT) != 0u {
-        let s = scene_spheres[c.prim & ~SPHERE_BIT];
+        let s = load_sphere(c.prim & ~SPHERE_BIT);
         let n = normalize(ro + c.t * rd - s.geo.xyz);
         return Hit(c.t, s.geo.xyz + s.geo.w * n, n, n, s.ids.x, s.ids.z, bitcast<i32>(s.ids.y));
     }
-    let tri = scene_triangles[c.prim];
+    let tri = load_triangle(c.prim);
     let p0 = tri.p0.xyz;
     let p1 = tri.p1.xyz;
     let p2 = tri.p2.xyz;
     let gn = normalize(cross(p1 - p0, p2 - p0));
-    let tn = scene_normals[c.prim];
+    let tn = load_normals(c.prim);
     var sn = (1.0 - c.uv.x - c.uv.y) * tn.n0 + c.uv.x * tn.n1 + c.uv.y * tn.n2;
     sn = select(gn, normalize(sn), dot(sn, sn) > 1e-12);
     let p = (1.0 - c.uv.x - c.uv.y) * p0 + c.uv.x * p1 + c.uv.y * p2;

@@ -1,9 +1,12 @@
 // Scene buffers (mirrors src/scene/gpu_types.rs). Counts live in `frame`.
 #import frame
 
-// Sphere and Triangle are read as whole vec4s: each load of a member is a
-// loop over the SIMD lanes on CPU drivers (lavapipe), so fewer, wider
-// members are faster; the layout is that of src/scene/gpu_types.rs.
+// Spheres and triangles, what traversal reads at every step, live in
+// rgba32uint textures: record i is texels texel_count * i .. of a texture
+// SCENE_TEXTURE_WIDTH texels wide, one texel per vec4 member below (the
+// byte layout of src/scene/gpu_types.rs; src/gpu/scene_buffers.rs says
+// why textures); so are the shading normals, to lift the storage-binding
+// limit from meshes. Meshes, materials and lights are storage buffers.
 // geo = (center, radius); ids = (material, light as i32 bits, object, _).
 struct Sphere {
     geo: vec4f,
@@ -51,12 +54,39 @@ struct Light {
     kind: u32,
 }
 
-@group(1) @binding(1) var<storage, read> scene_spheres: array<Sphere>;
-@group(1) @binding(2) var<storage, read> scene_triangles: array<Triangle>;
+@group(1) @binding(1) var scene_spheres: texture_2d<u32>;
+@group(1) @binding(2) var scene_triangles: texture_2d<u32>;
 @group(1) @binding(3) var<storage, read> scene_meshes: array<Mesh>;
 @group(1) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(1) @binding(5) var<storage, read> scene_lights: array<Light>;
-@group(1) @binding(8) var<storage, read> scene_normals: array<TriangleNormals>;
+@group(1) @binding(8) var scene_normals: texture_2d<u32>;
+
+// Mirrors SCENE_TEXTURE_WIDTH in src/gpu/scene_buffers.rs.
+const SCENE_TEXTURE_WIDTH_LOG2: u32 = 12u;
+
+// Texel i of a scene texture.
+fn scene_texel(t: texture_2d<u32>, i: u32) -> vec4u {
+    return textureLoad(t, vec2u(i & ((1u << SCENE_TEXTURE_WIDTH_LOG2) - 1u), i >> SCENE_TEXTURE_WIDTH_LOG2), 0);
+}
+
+fn load_sphere(i: u32) -> Sphere {
+    return Sphere(bitcast<vec4f>(scene_texel(scene_spheres, 2u * i)), scene_texel(scene_spheres, 2u * i + 1u));
+}
+
+fn load_triangle(i: u32) -> Triangle {
+    return Triangle(
+        bitcast<vec4f>(scene_texel(scene_triangles, 3u * i)),
+        bitcast<vec4f>(scene_texel(scene_triangles, 3u * i + 1u)),
+        bitcast<vec4f>(scene_texel(scene_triangles, 3u * i + 2u)),
+    );
+}
+
+fn load_normals(i: u32) -> TriangleNormals {
+    let n0 = bitcast<vec4f>(scene_texel(scene_normals, 3u * i));
+    let n1 = bitcast<vec4f>(scene_texel(scene_normals, 3u * i + 1u));
+    let n2 = bitcast<vec4f>(scene_texel(scene_normals, 3u * i + 2u));
+    return TriangleNormals(n0.xyz, n0.w, n1.xyz, n1.w, n2.xyz, n2.w);
+}
 
 fn is_emissive(m: Material) -> bool {
     return max(m.emission.x, max(m.emission.y, m.emission.z)) > 0.0;

@@ -237,12 +237,13 @@ fn bind_one(desc: &FrameGraph, pass: &str, b: &BindingInfo, target: &str) -> Res
     }
     if let Some(e) = EngineResource::from_name(target) {
         let ok = match &b.kind {
-            BindingKind::Uniform { .. } => e.is_uniform(),
-            BindingKind::Storage { read_only } => !e.is_uniform() && *read_only,
+            BindingKind::Uniform { .. } => e.kind() == EngineKind::Uniform,
+            BindingKind::Storage { read_only } => e.kind() == EngineKind::Storage && *read_only,
+            BindingKind::SampledTexture { sample } => e.kind() == EngineKind::Texture && *sample == SampleType::Uint,
             _ => false,
         };
         if !ok {
-            let want = if e.is_uniform() { "var<uniform>" } else { "var<storage, read>" };
+            let want = e.kind().wgsl();
             return Err(err_at(
                 ErrorKind::WrongAccess,
                 pass,

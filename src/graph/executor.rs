@@ -205,7 +205,7 @@ impl Executor {
                                     Target::Texture(t) => wgpu::BindingResource::TextureView(&views[t.resolve(parity)]),
                                     Target::Params => params.as_ref().map(|p| p.as_entire_binding()).unwrap_or_else(|| frame.as_entire_binding()),
                                     Target::Engine(EngineResource::Frame) => frame.as_entire_binding(),
-                                    Target::Engine(e) => scene.buffer(*e).unwrap_or(frame).as_entire_binding(),
+                                    Target::Engine(e) => scene.binding(*e).unwrap_or_else(|| frame.as_entire_binding()),
                                 },
                             })
                             .collect();

@@ -53,8 +53,39 @@ impl EngineResource {
         Self::ALL.into_iter().find(|e| e.name() == name)
     }
 
-    pub fn is_uniform(self) -> bool {
-        self == EngineResource::Frame
+    /// How shaders declare it. The per-primitive and per-node arrays are
+    /// textures (`src/gpu/scene_buffers.rs` says why).
+    pub fn kind(self) -> EngineKind {
+        match self {
+            EngineResource::Frame => EngineKind::Uniform,
+            EngineResource::Spheres
+            | EngineResource::Triangles
+            | EngineResource::Normals
+            | EngineResource::Bvh
+            | EngineResource::Instances => EngineKind::Texture,
+            EngineResource::Meshes | EngineResource::Materials | EngineResource::Lights => EngineKind::Storage,
+        }
+    }
+}
+
+/// The binding type of an engine resource.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EngineKind {
+    /// `var<uniform>`
+    Uniform,
+    /// `var<storage, read>`
+    Storage,
+    /// `texture_2d<u32>` (rgba32uint records)
+    Texture,
+}
+
+impl EngineKind {
+    pub fn wgsl(self) -> &'static str {
+        match self {
+            EngineKind::Uniform => "var<uniform>",
+            EngineKind::Storage => "var<storage, read>",
+            EngineKind::Texture => "texture_2d<u32>",
+        }
     }
 }
 

@@ -337,15 +337,22 @@ fn buffer_bound_to_a_texture() {
 
 #[test]
 fn wrong_access_to_engine_resources() {
-    let bad = shader("bad.wgsl", &[("scene_spheres", storage(false)), ("dst", out(F16))]);
+    let bad = shader("bad.wgsl", &[("scene_materials", storage(false)), ("dst", out(F16))]);
     let e = fail_with(&one_pass("bad.wgsl", ""), &[bad]);
     check(
         &e,
         ErrorKind::WrongAccess,
         Some("a"),
         Some(decl("bad.wgsl", 0)),
-        &["engine resource `scene_spheres`", "var<storage, read>", "declares var<storage, read_write>"],
+        &["engine resource `scene_materials`", "var<storage, read>", "declares var<storage, read_write>"],
     );
+
+    // The per-primitive arrays are rgba32uint textures, not buffers.
+    for kind in [storage(true), tex()] {
+        let bad = shader("bad.wgsl", &[("scene_triangles", kind), ("dst", out(F16))]);
+        let e = fail_with(&one_pass("bad.wgsl", ""), &[bad]);
+        check(&e, ErrorKind::WrongAccess, Some("a"), Some(decl("bad.wgsl", 0)), &["engine resource `scene_triangles`", "texture_2d<u32>"]);
+    }
 
     let e = fail(&one_pass("filter.wgsl", r#"src: "frame""#));
     check(&e, ErrorKind::WrongAccess, Some("a"), Some(decl("filter.wgsl", 0)), &["`frame`", "var<uniform>", "texture_2d<f32>"]);
@@ -534,7 +541,13 @@ fn constants_passed_through() {
 fn engine_resources_and_params_bound_by_name() {
     let mut shade = shader(
         "shade.wgsl",
-        &[("params", uniform("Params")), ("frame", uniform("Frame")), ("scene_spheres", storage(true)), ("dst", out(F16))],
+        &[
+            ("params", uniform("Params")),
+            ("frame", uniform("Frame")),
+            ("scene_spheres", utex()),
+            ("scene_lights", storage(true)),
+            ("dst", out(F16)),
+        ],
     );
     shade.params = Some(ParamsLayout { size: 16, members: vec![member("samples", 0, ScalarType::U32, 1)] });
     let g = graph(&f16(&["out"]), r#"Pass(name: "a", shader: "shade.wgsl", params: { samples: 4 }, bind: { dst: "out" }),"#, "out");
@@ -546,7 +559,8 @@ fn engine_resources_and_params_bound_by_name() {
             ("params", 0, &Target::Params),
             ("frame", 1, &Target::Engine(EngineResource::Frame)),
             ("scene_spheres", 2, &Target::Engine(EngineResource::Spheres)),
-            ("dst", 3, &Target::Texture(TexRef::Fixed(0))),
+            ("scene_lights", 3, &Target::Engine(EngineResource::Lights)),
+            ("dst", 4, &Target::Texture(TexRef::Fixed(0))),
         ]
     );
     assert_eq!(s.passes[0].params, Some(4u32.to_le_bytes().into_iter().chain([0; 12]).collect()));

@@ -18,9 +18,8 @@ pub struct SphereGpu {
 }
 
 /// `struct Triangle` (48 bytes): world-space vertices, what intersection
-/// reads. Shading normals live apart (`TriangleNormalsGpu`), so the array
-/// traversal touches stays small (one storage binding holds ~2.8M of them
-/// at 128 MiB).
+/// reads (three texels of the `scene_triangles` texture). Shading normals
+/// live apart (`TriangleNormalsGpu`), so what traversal touches stays small.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct TriangleGpu {

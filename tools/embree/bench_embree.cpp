@@ -1,13 +1,16 @@
 // Side-by-side reference for `glint bench rays`: the same OBJ, the same
 // camera convention (DESIGN.md section 8: up +y, one ray through each pixel
-// centre, no jitter), primary rays traced with Intel Embree (rtcIntersect1,
-// one thread per core). Prints build ms and primary Mrays/s as key=value
+// centre, no jitter), primary rays traced with Intel Embree 4 (rtcIntersect1,
+// incoherent single rays as glint traces them, one thread per core). Prints build ms and primary Mrays/s as key=value
 // lines and writes the hit distance along the unit direction (inf on a
 // miss) as a one-channel PFM ("Pf"), to compare with glint's --hitdist.
 //
-//   g++ -O2 -std=c++17 bench_embree.cpp -lembree3 -lpthread -o bench_embree
+// Embree 4 comes from tools/embree/fetch (the library of a PyPI wheel and the
+// API headers of a crate); tools/embree/run builds this against it:
+//   g++ -O2 -std=c++17 -I PREFIX/include bench_embree.cpp -L PREFIX/lib \
+//       -lembree4 -Wl,-rpath,PREFIX/lib -lpthread -o bench_embree
 //   bench_embree FILE.obj W H ox oy oz tx ty tz vfov_deg RUNS OUT.pfm
-#include <embree3/rtcore.h>
+#include <embree4/rtcore.h>
 
 #include <algorithm>
 #include <chrono>
@@ -27,6 +30,14 @@ static V3 add(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 static V3 mul(V3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
 static V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 static V3 norm(V3 a) { float l = std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z); return mul(a, 1.0f / l); }
+
+// The headers are Embree 4.2's; from 4.3 on, a library built with instance
+// arrays (the default) also writes RTCHit::instPrimID after instID, past the
+// end of 4.2's RTCRayHit. The padding keeps that write inside our storage.
+struct alignas(16) PaddedRayHit {
+    RTCRayHit rh;
+    unsigned char spare[32];
+};
 
 static double now_ms() {
     using namespace std::chrono;
@@ -69,6 +80,9 @@ int main(int argc, char** argv) {
     const size_t nv = verts.size() / 3, nt = tris.size() / 3;
 
     RTCDevice device = rtcNewDevice(nullptr);
+    if (!device) { std::fprintf(stderr, "rtcNewDevice failed (error %d)\n", int(rtcGetDeviceError(nullptr))); return 2; }
+    // The library's own version, not the headers'.
+    const long version = long(rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION));
     double t0 = now_ms();
     RTCScene scene = rtcNewScene(device);
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -89,20 +103,19 @@ int main(int argc, char** argv) {
     std::vector<float> dist(size_t(W) * H);
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     auto trace_rows = [&](unsigned first) {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
         for (int y = first; y < H; y += threads) {
             for (int x = 0; x < W; x++) {
                 float sx = (2.0f * (x + 0.5f) / W - 1.0f) * aspect * th;
                 float sy = (1.0f - 2.0f * (y + 0.5f) / H) * th;
                 V3 d = norm(add(add(fwd, mul(right, sx)), mul(up, sy)));
-                RTCRayHit rh{};
+                PaddedRayHit padded{};
+                RTCRayHit& rh = padded.rh;
                 rh.ray.org_x = pos.x; rh.ray.org_y = pos.y; rh.ray.org_z = pos.z;
                 rh.ray.dir_x = d.x; rh.ray.dir_y = d.y; rh.ray.dir_z = d.z;
                 rh.ray.tnear = 0.0f; rh.ray.tfar = std::numeric_limits<float>::infinity();
                 rh.ray.mask = 0xffffffff;
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect1(scene, &ctx, &rh);
+                rtcIntersect1(scene, &rh);
                 dist[size_t(y) * W + x] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity() : rh.ray.tfar;
             }
         }
@@ -117,7 +130,7 @@ int main(int argc, char** argv) {
     }
     std::sort(times.begin(), times.end());
     const double ms = times[times.size() / 2];
-    std::printf("embree_version=%d.%d.%d\n", RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH);
+    std::printf("embree_version=%ld.%ld.%ld\n", version / 10000, version / 100 % 100, version % 100);
     std::printf("threads=%u\n", threads);
     std::printf("triangles=%zu\n", nt);
     std::printf("embree_build_ms=%.1f\n", build_ms);
