@@ -30,8 +30,8 @@ struct Instance {
     v: vec4u,
 }
 
-@group(1) @binding(6) var scene_bvh: texture_2d<u32>;
-@group(1) @binding(7) var scene_instances: texture_2d<u32>;
+@group(1) @binding(6) var scene_bvh: texture_storage_2d<rgba32uint, read>;
+@group(1) @binding(7) var scene_instances: texture_storage_2d<rgba32uint, read>;
 
 fn load_node(i: u32) -> BvhNode {
     return BvhNode(bitcast<vec4f>(scene_texel(scene_bvh, 2u * i)), bitcast<vec4f>(scene_texel(scene_bvh, 2u * i + 1u)));

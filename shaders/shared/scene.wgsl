@@ -2,7 +2,8 @@
 #import frame
 
 // Spheres and triangles, what traversal reads at every step, live in
-// rgba32uint textures: record i is texels texel_count * i .. of a texture
+// read-only rgba32uint storage textures: record i is texels
+// texel_count * i .. of a texture
 // SCENE_TEXTURE_WIDTH texels wide, one texel per vec4 member below (the
 // byte layout of src/scene/gpu_types.rs; src/gpu/scene_buffers.rs says
 // why textures); so are the shading normals, to lift the storage-binding
@@ -54,19 +55,19 @@ struct Light {
     kind: u32,
 }
 
-@group(1) @binding(1) var scene_spheres: texture_2d<u32>;
-@group(1) @binding(2) var scene_triangles: texture_2d<u32>;
+@group(1) @binding(1) var scene_spheres: texture_storage_2d<rgba32uint, read>;
+@group(1) @binding(2) var scene_triangles: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(3) var<storage, read> scene_meshes: array<Mesh>;
 @group(1) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(1) @binding(5) var<storage, read> scene_lights: array<Light>;
-@group(1) @binding(8) var scene_normals: texture_2d<u32>;
+@group(1) @binding(8) var scene_normals: texture_storage_2d<rgba32uint, read>;
 
 // Mirrors SCENE_TEXTURE_WIDTH in src/gpu/scene_buffers.rs.
 const SCENE_TEXTURE_WIDTH_LOG2: u32 = 12u;
 
 // Texel i of a scene texture.
-fn scene_texel(t: texture_2d<u32>, i: u32) -> vec4u {
-    return textureLoad(t, vec2u(i & ((1u << SCENE_TEXTURE_WIDTH_LOG2) - 1u), i >> SCENE_TEXTURE_WIDTH_LOG2), 0);
+fn scene_texel(t: texture_storage_2d<rgba32uint, read>, i: u32) -> vec4u {
+    return textureLoad(t, vec2u(i & ((1u << SCENE_TEXTURE_WIDTH_LOG2) - 1u), i >> SCENE_TEXTURE_WIDTH_LOG2));
 }
 
 fn load_sphere(i: u32) -> Sphere {

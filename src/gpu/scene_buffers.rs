@@ -3,15 +3,17 @@
 //! does, so accumulation can reset.
 //!
 //! What traversal reads at every step (BVH nodes, triangles, spheres,
-//! instances) lives in `rgba32uint` textures, one texel per 16 bytes of a
-//! record, `SCENE_TEXTURE_WIDTH` texels to a row (`shaders/shared/scene.wgsl`
-//! and `bvh.wgsl` read them back with `textureLoad`). Texel fetches are what
-//! every GPU is built for, and on CPU drivers they are far cheaper than
-//! storage-buffer loads: lavapipe loads a storage buffer one lane and one
-//! component at a time, round-tripping the vector through memory each time
-//! (17.2 ns per vec4 per invocation against 2.8 ns for a texel, on an AMD
-//! EPYC with Mesa 22.3: `cargo run --release --example load_cost`). Rows also
-//! lift the one-binding size limit of storage buffers (128 MiB on lavapipe).
+//! instances) lives in `rgba32uint` textures bound as read-only storage
+//! textures, one texel per 16 bytes of a record, `SCENE_TEXTURE_WIDTH`
+//! texels to a row (`shaders/shared/scene.wgsl` and `bvh.wgsl` read them
+//! back with `textureLoad`). Texel fetches are what every GPU is built for,
+//! and on CPU drivers they are far cheaper than storage-buffer loads:
+//! lavapipe loads a storage buffer one lane and one component at a time,
+//! round-tripping the vector through memory each time (17.2 ns per vec4 per
+//! invocation, against 2.8 ns for a sampled texel and 2.2 ns for a storage
+//! texel, which has no mip level to resolve; AMD EPYC, Mesa 22.3:
+//! `cargo run --release --example load_cost`). Rows also lift the
+//! one-binding size limit of storage buffers (128 MiB on lavapipe).
 //! Shading normals are textures too (so no per-triangle array is bound by
 //! the storage-binding limit); meshes, materials and lights stay in storage
 //! buffers.
@@ -53,7 +55,7 @@ impl SceneTexture {
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: wgpu::TextureFormat::Rgba32Uint,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,

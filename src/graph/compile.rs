@@ -239,7 +239,7 @@ fn bind_one(desc: &FrameGraph, pass: &str, b: &BindingInfo, target: &str) -> Res
         let ok = match &b.kind {
             BindingKind::Uniform { .. } => e.kind() == EngineKind::Uniform,
             BindingKind::Storage { read_only } => e.kind() == EngineKind::Storage && *read_only,
-            BindingKind::SampledTexture { sample } => e.kind() == EngineKind::Texture && *sample == SampleType::Uint,
+            BindingKind::StorageTexture { format, access } => e.kind() == EngineKind::Texture && *format == TexFormat::Rgba32Uint && *access == StorageAccess::Read,
             _ => false,
         };
         if !ok {

@@ -75,7 +75,7 @@ pub enum EngineKind {
     Uniform,
     /// `var<storage, read>`
     Storage,
-    /// `texture_2d<u32>` (rgba32uint records)
+    /// `texture_storage_2d<rgba32uint, read>` (records of 16-byte texels)
     Texture,
 }
 
@@ -84,7 +84,7 @@ impl EngineKind {
         match self {
             EngineKind::Uniform => "var<uniform>",
             EngineKind::Storage => "var<storage, read>",
-            EngineKind::Texture => "texture_2d<u32>",
+            EngineKind::Texture => "texture_storage_2d<rgba32uint, read>",
         }
     }
 }

@@ -42,6 +42,11 @@ fn uniform(type_name: &str) -> BindingKind {
     BindingKind::Uniform { type_name: type_name.into(), size: 16 }
 }
 
+/// How shaders declare the scene's per-primitive arrays.
+fn scene_array() -> BindingKind {
+    BindingKind::StorageTexture { format: TexFormat::Rgba32Uint, access: StorageAccess::Read }
+}
+
 fn storage(read_only: bool) -> BindingKind {
     BindingKind::Storage { read_only }
 }
@@ -347,11 +352,13 @@ fn wrong_access_to_engine_resources() {
         &["engine resource `scene_materials`", "var<storage, read>", "declares var<storage, read_write>"],
     );
 
-    // The per-primitive arrays are rgba32uint textures, not buffers.
-    for kind in [storage(true), tex()] {
+    // The per-primitive arrays are read-only rgba32uint storage textures.
+    let wrong_format = BindingKind::StorageTexture { format: TexFormat::Rgba32Float, access: StorageAccess::Read };
+    let writable = BindingKind::StorageTexture { format: TexFormat::Rgba32Uint, access: StorageAccess::ReadWrite };
+    for kind in [storage(true), utex(), wrong_format, writable] {
         let bad = shader("bad.wgsl", &[("scene_triangles", kind), ("dst", out(F16))]);
         let e = fail_with(&one_pass("bad.wgsl", ""), &[bad]);
-        check(&e, ErrorKind::WrongAccess, Some("a"), Some(decl("bad.wgsl", 0)), &["engine resource `scene_triangles`", "texture_2d<u32>"]);
+        check(&e, ErrorKind::WrongAccess, Some("a"), Some(decl("bad.wgsl", 0)), &["engine resource `scene_triangles`", "texture_storage_2d<rgba32uint, read>"]);
     }
 
     let e = fail(&one_pass("filter.wgsl", r#"src: "frame""#));
@@ -544,7 +551,7 @@ fn engine_resources_and_params_bound_by_name() {
         &[
             ("params", uniform("Params")),
             ("frame", uniform("Frame")),
-            ("scene_spheres", utex()),
+            ("scene_spheres", scene_array()),
             ("scene_lights", storage(true)),
             ("dst", out(F16)),
         ],
