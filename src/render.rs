@@ -65,10 +65,10 @@ fn check_scene_sizes(gpu: &Gpu, data: &crate::scene::SceneData) -> Result<(), Us
         ))
     };
     let max_rows = u64::from(gpu.max_texture_side());
+    let geometry = std::mem::size_of_val(data.triangles.as_slice()) + std::mem::size_of_val(data.bvh.as_slice());
     let textures = [
-        ("triangles", std::mem::size_of_val(data.triangles.as_slice()), data.triangles.len()),
+        ("triangles (with their BVH nodes)", geometry, data.triangles.len()),
         ("triangle normals", std::mem::size_of_val(data.normals.as_slice()), data.normals.len()),
-        ("BVH nodes", std::mem::size_of_val(data.bvh.as_slice()), data.bvh.len()),
         ("spheres", std::mem::size_of_val(data.spheres.as_slice()), data.spheres.len()),
         ("instances", std::mem::size_of_val(data.instances.as_slice()), data.instances.len()),
     ];

@@ -10,7 +10,7 @@ const INSTANCE_SPHERE: u32 = 0u;
 const INSTANCE_MESH: u32 = 1u;
 
 // (bmin, left_first) and (bmax, count), the u32s as float bits: two
-// texels of the scene_bvh texture per node (see scene.wgsl).
+// texels of scene_geometry per node, after the triangles (see scene.wgsl).
 struct BvhNode {
     lo: vec4f,
     hi: vec4f,
@@ -30,11 +30,16 @@ struct Instance {
     v: vec4u,
 }
 
-@group(1) @binding(6) var scene_bvh: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(7) var scene_instances: texture_storage_2d<rgba32uint, read>;
 
+// The texel of node 0 in scene_geometry.
+fn node_texel_base() -> u32 {
+    return 3u * frame.n_triangles;
+}
+
 fn load_node(i: u32) -> BvhNode {
-    return BvhNode(bitcast<vec4f>(scene_texel(scene_bvh, 2u * i)), bitcast<vec4f>(scene_texel(scene_bvh, 2u * i + 1u)));
+    let t = node_texel_base() + 2u * i;
+    return BvhNode(bitcast<vec4f>(scene_texel(scene_geometry, t)), bitcast<vec4f>(scene_texel(scene_geometry, t + 1u)));
 }
 
 fn load_instance(i: u32) -> Instance {

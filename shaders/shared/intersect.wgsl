@@ -209,8 +209,8 @@ fn closer(t: f32, prim: u32, best: Closest) -> bool {
 }
 
 // Every sphere and triangle, no BVH: what `glint bench stress --brute-force`
-// measures the BVH against (the thesis's setup), and the fast path for
-// tiny scenes below.
+// measures the BVH against (the thesis's setup), and the path for tiny
+// scenes (FLAT_SCENE below).
 override BRUTE_FORCE: bool = false;
 
 fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
@@ -252,73 +252,62 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
     return false;
 }
 
-// Scenes with at most this many primitives are tested flat: a loop every
-// SIMD lane runs in step beats a divergent stack traversal there (measured
-// on lavapipe: the Cornell box, 13 primitives, traces 2-4x faster flat).
-// The result is identical either way (ties go to the lower id).
-const FLAT_LIMIT: u32 = 32u;
+// Set per scene by the engine (FLAT_LIMIT in src/gpu/scene_buffers.rs):
+// scenes of a few primitives test them all, flat; a loop every SIMD lane
+// runs in step beats a divergent stack traversal there. As a pipeline
+// constant rather than a test of the scene counts, the path not taken is
+// compiled out: CPU drivers run every path of a shader, taken or not, and
+// the traversal code no longer fitting the instruction cache next to the
+// flat loop cost more than the loop itself.
+override FLAT_SCENE: bool = false;
 
 // Why the loops below look the way they do: SIMD CPU drivers (lavapipe)
 // run every branch of a loop body under a lane mask, taken or not, so an
 // iteration costs the sum of all its paths. The TLAS loop (few steps)
 // holds the instance code; the BLAS loop (most steps) holds only boxes
-// and triangles. The visited node stays in registers; only the farther
-// child of a pair goes through the stack (dynamically indexed private
-// memory is expensive there too).
+// and triangles, and fetches four texels a step, the same four for both
+// kinds of work: a child pair (two nodes) or a triangle (three texels and
+// one spare), from scene_geometry. The visited node stays in registers;
+// only the farther child of a pair goes through the stack (dynamically
+// indexed private memory is expensive there too).
 
 // Traverses the BLAS at `root` (its box already hit) into `best`; true
 // when any_hit and something was hit (stop).
 fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
-    // The node to visit as a packed reference (node_ref): what a visit
-    // needs is in the parent's child loads, so no step reloads a node.
+    let node_base = node_texel_base();
+    // The node in hand as a packed reference (node_ref): what a visit
+    // needs is in the parent's child texels, so no step reloads a node.
     var current = node_ref(load_node(root));
     var have_current = true;
     var sp = 0u;
-    // Triangles of the last leaf reached still to test: one per step,
-    // while the node walk goes on to the next leaf.
+    // Triangles of the leaf reached still to test, one per step.
     var tri = 0u;
     var tri_end = 0u;
     for (var steps = 0u; steps < MAX_STEPS; steps++) {
-        var popped = have_current;
-        if !have_current && sp > 0u {
+        if !have_current && tri >= tri_end && sp > 0u {
             sp -= 1u;
             let top = stack[sp];
             // The same slack hit_box gives its far bound.
-            popped = bitcast<f32>(top.y) <= (*best).t * IZE_SCALE;
+            have_current = bitcast<f32>(top.y) <= (*best).t * IZE_SCALE;
             current = top.x;
         }
-        if popped {
-            let first = current & REF_FIRST;
-            let count = current >> REF_COUNT_SHIFT;
-            if count > 0u {
-                // A leaf waits until the previous leaf's triangles are done.
-                have_current = tri < tri_end;
-                if !have_current {
-                    tri = first;
-                    tri_end = first + count;
-                }
-            } else {
-                let na = load_node(first);
-                let nb = load_node(first + 1u);
-                let ta = hit_box(r, na.lo.xyz, na.hi.xyz, (*best).t);
-                let tb = hit_box(r, nb.lo.xyz, nb.hi.xyz, (*best).t);
-                // Visit the nearer next; push the farther.
-                let swap = tb >= 0.0 && (ta < 0.0 || tb < ta);
-                let t_first = select(ta, tb, swap);
-                let t_second = select(tb, ta, swap);
-                let ref_a = node_ref(na);
-                let ref_b = node_ref(nb);
-                have_current = t_first >= 0.0;
-                current = select(ref_a, ref_b, swap);
-                if t_first >= 0.0 && t_second >= 0.0 && sp < STACK_SIZE {
-                    stack[sp] = vec2u(select(ref_b, ref_a, swap), bitcast<u32>(t_second));
-                    sp += 1u;
-                }
-            }
+        let first = current & REF_FIRST;
+        let count = current >> REF_COUNT_SHIFT;
+        // A leaf in hand becomes the triangles to test (none are pending:
+        // nodes are taken in hand only once the last leaf is done).
+        if have_current && count > 0u {
+            tri = first;
+            tri_end = first + count;
+            have_current = false;
         }
-        if tri < tri_end {
-            let t = load_triangle(tri);
-            let h = hit_triangle(r, t.p0.xyz, t.p1.xyz, t.p2.xyz, next_up((*best).t));
+        let test_triangle = tri < tri_end;
+        let base = select(node_base + 2u * first, 3u * tri, test_triangle);
+        let t0 = bitcast<vec4f>(scene_texel(scene_geometry, base));
+        let t1 = bitcast<vec4f>(scene_texel(scene_geometry, base + 1u));
+        let t2 = bitcast<vec4f>(scene_texel(scene_geometry, base + 2u));
+        let t3 = bitcast<vec4f>(scene_texel(scene_geometry, base + 3u));
+        if test_triangle {
+            let h = hit_triangle(r, t0.xyz, t1.xyz, t2.xyz, next_up((*best).t));
             if h.x > 0.0 && h.x < tmax && closer(h.x, tri, *best) {
                 *best = Closest(h.x, tri, h.yz);
                 if any_hit {
@@ -326,7 +315,24 @@ fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function
                 }
             }
             tri += 1u;
-        } else if !have_current && sp == 0u {
+        } else if have_current {
+            // An interior node: its children are the pair (t0, t1), (t2, t3).
+            let ta = hit_box(r, t0.xyz, t1.xyz, (*best).t);
+            let tb = hit_box(r, t2.xyz, t3.xyz, (*best).t);
+            // Visit the nearer next; push the farther.
+            let swap = tb >= 0.0 && (ta < 0.0 || tb < ta);
+            let t_first = select(ta, tb, swap);
+            let t_second = select(tb, ta, swap);
+            let ref_a = node_ref(BvhNode(t0, t1));
+            let ref_b = node_ref(BvhNode(t2, t3));
+            have_current = t_first >= 0.0;
+            current = select(ref_a, ref_b, swap);
+            if t_first >= 0.0 && t_second >= 0.0 && sp < STACK_SIZE {
+                stack[sp] = vec2u(select(ref_b, ref_a, swap), bitcast<u32>(t_second));
+                sp += 1u;
+            }
+        }
+        if !have_current && tri >= tri_end && sp == 0u {
             break;
         }
     }
@@ -341,7 +347,7 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     if !finite {
         return Closest(tmax, NO_HIT, vec2f(0.0));
     }
-    if BRUTE_FORCE || frame.n_spheres + frame.n_triangles <= FLAT_LIMIT {
+    if BRUTE_FORCE || FLAT_SCENE {
         return brute_force(r, tmax, any_hit);
     }
     var best = Closest(tmax, NO_HIT, vec2f(0.0));

@@ -56,7 +56,7 @@ struct Light {
 }
 
 @group(1) @binding(1) var scene_spheres: texture_storage_2d<rgba32uint, read>;
-@group(1) @binding(2) var scene_triangles: texture_storage_2d<rgba32uint, read>;
+@group(1) @binding(2) var scene_geometry: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(3) var<storage, read> scene_meshes: array<Mesh>;
 @group(1) @binding(4) var<storage, read> scene_materials: array<Material>;
 @group(1) @binding(5) var<storage, read> scene_lights: array<Light>;
@@ -76,9 +76,9 @@ fn load_sphere(i: u32) -> Sphere {
 
 fn load_triangle(i: u32) -> Triangle {
     return Triangle(
-        bitcast<vec4f>(scene_texel(scene_triangles, 3u * i)),
-        bitcast<vec4f>(scene_texel(scene_triangles, 3u * i + 1u)),
-        bitcast<vec4f>(scene_texel(scene_triangles, 3u * i + 2u)),
+        bitcast<vec4f>(scene_texel(scene_geometry, 3u * i)),
+        bitcast<vec4f>(scene_texel(scene_geometry, 3u * i + 1u)),
+        bitcast<vec4f>(scene_texel(scene_geometry, 3u * i + 2u)),
     );
 }
 

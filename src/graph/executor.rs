@@ -103,6 +103,11 @@ fn layout_entry(b: &ResolvedBinding) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry { binding: b.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
 }
 
+/// The override in `shaders/shared/intersect.wgsl` the engine sets from the
+/// scene (unless a graph sets it): whether rays test every primitive
+/// instead of walking the BVH.
+const FLAT_SCENE: &str = "FLAT_SCENE";
+
 impl Executor {
     /// Creates textures, pipelines and bind groups. `frame` is the frame
     /// uniform buffer, `scene` the scene buffers.
@@ -177,7 +182,11 @@ impl Executor {
                 bind_group_layouts: &layout_refs,
                 immediate_size: 0,
             });
-            let constants: Vec<(&str, f64)> = sp.constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+            let mut constants: Vec<(&str, f64)> = sp.constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+            let declares = |name: &str| shader.info.overrides.iter().any(|o| o.name == name);
+            if declares(FLAT_SCENE) && !constants.iter().any(|(k, _)| *k == FLAT_SCENE) {
+                constants.push((FLAT_SCENE, f64::from(u8::from(scene.is_flat()))));
+            }
             let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(&sp.name),
                 layout: Some(&pipeline_layout),

@@ -11,27 +11,27 @@ pub enum EngineResource {
     /// `var<uniform> frame: Frame` (camera, previous camera, frame index, seed, counts).
     Frame,
     Spheres,
-    Triangles,
+    /// Triangles, then the two-level BVH's nodes (one array, so traversal
+    /// fetches a node pair or a triangle from the same place).
+    Geometry,
     /// Shading normals, parallel to the triangles.
     Normals,
     Meshes,
     Materials,
     Lights,
-    /// The two-level BVH nodes and the TLAS instances.
-    Bvh,
+    /// The TLAS instances.
     Instances,
 }
 
 impl EngineResource {
-    pub const ALL: [EngineResource; 9] = [
+    pub const ALL: [EngineResource; 8] = [
         EngineResource::Frame,
         EngineResource::Spheres,
-        EngineResource::Triangles,
+        EngineResource::Geometry,
         EngineResource::Normals,
         EngineResource::Meshes,
         EngineResource::Materials,
         EngineResource::Lights,
-        EngineResource::Bvh,
         EngineResource::Instances,
     ];
 
@@ -39,12 +39,11 @@ impl EngineResource {
         match self {
             EngineResource::Frame => "frame",
             EngineResource::Spheres => "scene_spheres",
-            EngineResource::Triangles => "scene_triangles",
+            EngineResource::Geometry => "scene_geometry",
             EngineResource::Normals => "scene_normals",
             EngineResource::Meshes => "scene_meshes",
             EngineResource::Materials => "scene_materials",
             EngineResource::Lights => "scene_lights",
-            EngineResource::Bvh => "scene_bvh",
             EngineResource::Instances => "scene_instances",
         }
     }
@@ -59,9 +58,8 @@ impl EngineResource {
         match self {
             EngineResource::Frame => EngineKind::Uniform,
             EngineResource::Spheres
-            | EngineResource::Triangles
+            | EngineResource::Geometry
             | EngineResource::Normals
-            | EngineResource::Bvh
             | EngineResource::Instances => EngineKind::Texture,
             EngineResource::Meshes | EngineResource::Materials | EngineResource::Lights => EngineKind::Storage,
         }

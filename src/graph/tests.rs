@@ -356,9 +356,9 @@ fn wrong_access_to_engine_resources() {
     let wrong_format = BindingKind::StorageTexture { format: TexFormat::Rgba32Float, access: StorageAccess::Read };
     let writable = BindingKind::StorageTexture { format: TexFormat::Rgba32Uint, access: StorageAccess::ReadWrite };
     for kind in [storage(true), utex(), wrong_format, writable] {
-        let bad = shader("bad.wgsl", &[("scene_triangles", kind), ("dst", out(F16))]);
+        let bad = shader("bad.wgsl", &[("scene_geometry", kind), ("dst", out(F16))]);
         let e = fail_with(&one_pass("bad.wgsl", ""), &[bad]);
-        check(&e, ErrorKind::WrongAccess, Some("a"), Some(decl("bad.wgsl", 0)), &["engine resource `scene_triangles`", "texture_storage_2d<rgba32uint, read>"]);
+        check(&e, ErrorKind::WrongAccess, Some("a"), Some(decl("bad.wgsl", 0)), &["engine resource `scene_geometry`", "texture_storage_2d<rgba32uint, read>"]);
     }
 
     let e = fail(&one_pass("filter.wgsl", r#"src: "frame""#));

@@ -18,7 +18,7 @@ pub struct SphereGpu {
 }
 
 /// `struct Triangle` (48 bytes): world-space vertices, what intersection
-/// reads (three texels of the `scene_triangles` texture). Shading normals
+/// reads (three texels of the `scene_geometry` texture). Shading normals
 /// live apart (`TriangleNormalsGpu`), so what traversal touches stays small.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
