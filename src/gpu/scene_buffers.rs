@@ -204,3 +204,38 @@ impl SceneBuffers {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bvh::BvhNode;
+    use crate::scene::TriangleGpu;
+
+    #[test]
+    fn rows_cover_the_records() {
+        let row = SCENE_TEXTURE_WIDTH as usize * TEXEL_BYTES;
+        assert_eq!(scene_texture_rows(0), 1, "an empty array still binds one row");
+        assert_eq!(scene_texture_rows(16), 1);
+        assert_eq!(scene_texture_rows(row), 1);
+        assert_eq!(scene_texture_rows(row + 1), 2);
+        assert_eq!(scene_texture_rows(3 * row - 16), 3);
+        // 1M triangles (48 bytes) and their nodes fit a 16384-row texture.
+        assert!(scene_texture_rows(1_000_000 * 48 + 623_540 * 32) <= 16384);
+    }
+
+    #[test]
+    fn geometry_is_triangles_then_nodes() {
+        let tri = |k: f32| TriangleGpu { p0: [k, 0.0, 0.0], material: 7, p1: [0.0, k, 0.0], object: 9, p2: [0.0, 0.0, k], _pad0: 0 };
+        let node = BvhNode { bmin: [-1.0; 3], left_first: 5, bmax: [1.0; 3], count: 2 };
+        let data = SceneData { triangles: vec![tri(1.0), tri(2.0)], bvh: vec![node], ..Default::default() };
+        let bytes = geometry_bytes(&data);
+        // Node 0 starts at texel 3 * triangle count (node_texel_base in bvh.wgsl).
+        assert_eq!(bytes.len(), 2 * 3 * TEXEL_BYTES + 2 * TEXEL_BYTES);
+        let texel = |i: usize| &bytes[i * TEXEL_BYTES..(i + 1) * TEXEL_BYTES];
+        assert_eq!(texel(3), &bytemuck::bytes_of(&tri(2.0))[..TEXEL_BYTES]);
+        assert_eq!(texel(2 * 3), &bytemuck::bytes_of(&node)[..TEXEL_BYTES]);
+        assert_eq!(texel(2 * 3 + 1), &bytemuck::bytes_of(&node)[TEXEL_BYTES..]);
+        // Padded to whole rows for the upload.
+        assert_eq!(padded_rows(&bytes, 1).len(), SCENE_TEXTURE_WIDTH as usize * TEXEL_BYTES);
+    }
+}
