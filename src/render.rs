@@ -65,6 +65,12 @@ fn check_scene_sizes(gpu: &Gpu, data: &crate::scene::SceneData) -> Result<(), Us
         ))
     };
     let max_rows = u64::from(gpu.max_texture_side());
+    if max_rows < u64::from(SCENE_TEXTURE_WIDTH) {
+        return Err(UserError::new(format!(
+            "{} takes textures up to {max_rows} texels wide; glint's scene textures are {SCENE_TEXTURE_WIDTH} wide",
+            gpu.describe()
+        )));
+    }
     let geometry = std::mem::size_of_val(data.triangles.as_slice()) + std::mem::size_of_val(data.bvh.as_slice());
     let textures = [
         ("triangles (with their BVH nodes)", geometry, data.triangles.len()),
@@ -99,7 +105,15 @@ impl Renderer {
         let mut data = scene.pack();
         let bvh_stats = bvh.update(&mut data);
         check_scene_sizes(gpu, &data)?;
+        // Sizes are checked above; a driver that still refuses (out of
+        // memory for a large scene) gets a clear error, not a panic.
+        let oom = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let invalid = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let buffers = SceneBuffers::new(&gpu.device, &gpu.queue, data);
+        let refused = [pollster::block_on(invalid.pop()), pollster::block_on(oom.pop())];
+        if let Some(e) = refused.into_iter().flatten().next() {
+            return Err(UserError::new(format!("{} refused the scene's buffers: {e}; use fewer or smaller meshes", gpu.describe())));
+        }
         let frame_buffer = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&FrameGpu::zeroed_frame()),

@@ -1,4 +1,4 @@
-// Scene buffers (mirrors src/scene/gpu_types.rs). Counts live in `frame`.
+// The scene's arrays (mirrors src/scene/gpu_types.rs). Counts live in `frame`.
 #import frame
 
 // Spheres and triangles, what traversal reads at every step, live in

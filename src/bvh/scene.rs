@@ -122,7 +122,15 @@ impl SceneBvh {
             inst_bounds.push(Aabb { min: c - Vec3::splat(s.radius), max: c + Vec3::splat(s.radius) });
             inst.push((INSTANCE_SPHERE, i));
         }
-        let tlas = build_with_depth(&inst_bounds, TLAS_MAX_DEPTH);
+        let mut tlas = build_with_depth(&inst_bounds, TLAS_MAX_DEPTH);
+        // The TLAS always takes as many slots as any tree over these
+        // instances can need (2n - 1: every leaf holds one or more), the
+        // unused ones empty leaves nothing points to. Its node count changes
+        // as things move; this way the node array, the BLAS roots after the
+        // TLAS and the uploaded textures keep their sizes and places.
+        let slots = 2 * inst_bounds.len().max(1) - 1;
+        debug_assert!(tlas.nodes.len() <= slots);
+        tlas.nodes.resize(slots, BvhNode { bmin: [0.0; 3], left_first: 0, bmax: [0.0; 3], count: TLAS_LEAF });
         // BLAS m starts after the TLAS and the BLASes before it.
         let mut roots = Vec::with_capacity(blas_nodes.len());
         let mut next = tlas.nodes.len() as u32;

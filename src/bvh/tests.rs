@@ -17,7 +17,7 @@ use glam::{DVec3, Vec3};
 use super::offset::offset_ray;
 use super::{BLAS_MAX_DEPTH, TLAS_MAX_DEPTH};
 use super::ray::{hit_sphere, hit_triangle, next_up, Geometry, Hit, Ray, SPHERE_BIT, STACK};
-use super::scene::{SceneBvh, TLAS_LEAF};
+use super::scene::{SceneBvh, INSTANCE_MESH, TLAS_LEAF};
 use super::{Aabb, BvhNode};
 use crate::scene::{MeshGpu, SceneData, SphereGpu, TriangleGpu};
 
@@ -288,7 +288,7 @@ fn tree_depth(nodes: &[BvhNode], instances: &[super::scene::InstanceGpu]) -> usi
         if n.count & TLAS_LEAF != 0 {
             for k in n.left_first..n.left_first + (n.count & !TLAS_LEAF) {
                 let inst = instances[k as usize];
-                if inst.kind == super::scene::INSTANCE_MESH {
+                if inst.kind == INSTANCE_MESH {
                     stack.push((inst.index as usize, depth + 1));
                 }
             }
@@ -1581,5 +1581,40 @@ fn build_depth_is_bounded() {
         } else {
             assert!(deepest <= max_depth, "max {max_depth}: depth {deepest}");
         }
+    }
+}
+
+/// Moving instances change how many nodes the TLAS needs (a sphere sliding
+/// along x through a row of others takes 7 or 9 here). The node array must
+/// keep its length and the BLAS roots their places, or the GPU, which
+/// uploads arrays of unchanged length in place, would walk stale nodes.
+#[test]
+fn moving_instances_keep_the_node_array_in_place() {
+    let mut rng = Rng::new(77);
+    let mut data = random_soup(&mut rng, &[200, 50], 0);
+    for k in 0..12 {
+        add_sphere(&mut data, Vec3::new(k as f32 * 2.0, 0.0, 0.0), 0.5);
+    }
+    let mut bvh = SceneBvh::default();
+    bvh.update(&mut data);
+    let (len, instances) = (data.bvh.len(), data.instances.len());
+    let roots: Vec<u32> = data.instances.iter().filter(|i| i.kind == INSTANCE_MESH).map(|i| i.index).collect();
+    for step in 0..40 {
+        data.spheres[0].center[0] = step as f32 * 0.6 - 2.0;
+        data.spheres[5].center[1] = (step as f32 * 0.37).sin() * 3.0;
+        bvh.update(&mut data);
+        assert_eq!(data.bvh.len(), len, "step {step}: node count changed");
+        assert_eq!(data.instances.len(), instances);
+        let mut now: Vec<u32> = data.instances.iter().filter(|i| i.kind == INSTANCE_MESH).map(|i| i.index).collect();
+        now.sort_unstable();
+        let mut before = roots.clone();
+        before.sort_unstable();
+        assert_eq!(now, before, "step {step}: BLAS roots moved");
+        let mut cmp = Compare::new("moving instances", &data);
+        for _ in 0..200 {
+            let o = rng.in_box(30.0);
+            cmp.ray_bounds(f(o), f(rng.unit()));
+        }
+        cmp.finish();
     }
 }

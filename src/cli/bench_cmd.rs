@@ -211,7 +211,7 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
     loop {
         let (ms, tris) = match stress_step(&gpu, &args, copies) {
             Ok(step) => step,
-            // Past the adapter's buffer limits: report what fit.
+            // Past the adapter's texture or buffer limits: report what fit.
             Err(e) if reached > 0 => {
                 out!("stopped_early=\"{e}\"");
                 break;

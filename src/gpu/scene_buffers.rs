@@ -1,4 +1,5 @@
-//! The scene on the GPU: one binding per array of `SceneData`.
+//! The scene on the GPU: one binding per array of `SceneData` (triangles
+//! and BVH nodes share `scene_geometry`).
 //! `update` writes only the arrays that changed and bumps `epoch` when it
 //! does, so accumulation can reset.
 //!
@@ -79,6 +80,8 @@ impl SceneTexture {
 
     fn write(&self, queue: &wgpu::Queue, bytes: &[u8]) {
         let size = self.texture.size();
+        // The arrays of one scene keep their lengths (SceneBvh pads the TLAS).
+        debug_assert!(scene_texture_rows(bytes.len()) <= u64::from(size.height));
         queue.write_texture(
             self.texture.as_image_copy(),
             &padded_rows(bytes, size.height),
@@ -166,6 +169,7 @@ impl SceneBuffers {
             }
         }
         write_texture(queue, &self.spheres, &self.data.spheres, &data.spheres, &mut changed);
+        debug_assert_eq!(self.data.bvh.len(), data.bvh.len(), "the node array changed length");
         if differs(&self.data.triangles, &data.triangles) || differs(&self.data.bvh, &data.bvh) {
             self.geometry.write(queue, &geometry_bytes(&data));
             changed = true;
@@ -221,6 +225,14 @@ mod tests {
         assert_eq!(scene_texture_rows(3 * row - 16), 3);
         // 1M triangles (48 bytes) and their nodes fit a 16384-row texture.
         assert!(scene_texture_rows(1_000_000 * 48 + 623_540 * 32) <= 16384);
+    }
+
+    #[test]
+    fn shaders_use_the_same_row_width() {
+        let wgsl = include_str!("../../shaders/shared/scene.wgsl");
+        let line = wgsl.lines().find(|l| l.starts_with("const SCENE_TEXTURE_WIDTH_LOG2: u32 =")).expect("scene.wgsl declares SCENE_TEXTURE_WIDTH_LOG2");
+        let log2: u32 = line.trim_end_matches(';').rsplit('=').next().unwrap().trim().trim_end_matches('u').parse().unwrap();
+        assert_eq!(1u32 << log2, SCENE_TEXTURE_WIDTH);
     }
 
     #[test]
