@@ -12,4 +12,4 @@ pub mod scene;
 mod tests;
 
 pub use aabb::Aabb;
-pub use build::{build, build_with_depth, refit, Bvh, BvhNode, BLAS_MAX_DEPTH, MAX_LEAF, TLAS_MAX_DEPTH};
+pub use build::{build, build_with_depth, refit, Bvh, BvhBuilder, BvhNode, BLAS_MAX_DEPTH, MAX_LEAF, TLAS_MAX_DEPTH};

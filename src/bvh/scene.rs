@@ -12,7 +12,7 @@ use std::time::Instant;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use super::{build, build_with_depth, refit, Aabb, Bvh, BvhNode, TLAS_MAX_DEPTH};
+use super::{build_with_depth, refit, Aabb, Bvh, BvhBuilder, BvhNode, BLAS_MAX_DEPTH, TLAS_MAX_DEPTH};
 use crate::scene::{SceneData, TriangleGpu, TriangleNormalsGpu};
 
 pub const TLAS_LEAF: u32 = 0x8000_0000;
@@ -58,9 +58,11 @@ struct CachedBlas {
 #[derive(Default)]
 pub struct SceneBvh {
     cache: Vec<Option<CachedBlas>>,
+    builder: BvhBuilder,
 }
 
-fn tri_bounds(t: &TriangleGpu) -> Aabb {
+/// The bounding box of a triangle, what the BLAS builder bins.
+pub fn tri_bounds(t: &TriangleGpu) -> Aabb {
     Aabb::of_points(&[Vec3::from(t.p0), Vec3::from(t.p1), Vec3::from(t.p2)])
 }
 
@@ -87,7 +89,7 @@ impl SceneBvh {
                 _ => {
                     let bounds: Vec<Aabb> = input.iter().map(tri_bounds).collect();
                     let start = Instant::now();
-                    let bvh = build(&bounds);
+                    let bvh = self.builder.build(&bounds, BLAS_MAX_DEPTH);
                     stats.build_ms += start.elapsed().as_secs_f64() * 1e3;
                     stats.built_triangles += input.len();
                     *entry = Some(CachedBlas { input: input.to_vec(), normals: normals.to_vec(), bvh });
