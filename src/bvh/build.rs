@@ -21,6 +21,10 @@ const _: () = assert!(MAX_LEAF < 8);
 /// knot: same Mrays/s) and costs a third of the build time and half the nodes.
 const MIN_SPLIT: usize = MAX_LEAF + 1;
 const BINS: usize = 12;
+/// Nodes of up to this many primitives are split at their centroid median
+/// into two leaves without binning (on a 1M-triangle knot: build -12%,
+/// traversal steps per primary ray +1.2%).
+const MEDIAN_SPLIT_MAX: usize = 2 * MAX_LEAF;
 /// Cost of one traversal step relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
@@ -200,8 +204,9 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
     while let Some(task) = stack.pop() {
         let count = task.end - task.start;
         let node_area = nodes[task.node].bounds().half_area();
-        let must_balance = count > MAX_LEAF && task.depth + balanced_levels(count) >= max_depth;
-        let split = if count >= MIN_SPLIT && !must_balance { best_split(&prims[task.start..task.end], &task.centroids, &mut bins) } else { None };
+        let too_deep = task.depth + balanced_levels(count) >= max_depth;
+        let median = count > MAX_LEAF && (count <= MEDIAN_SPLIT_MAX || too_deep);
+        let split = if count >= MIN_SPLIT && !median { best_split(&prims[task.start..task.end], &task.centroids, &mut bins) } else { None };
         let split = match split {
             Some(s) if node_area > 0.0 && TRAVERSAL_COST + s.cost / node_area < count as f32 => Some(s),
             Some(s) if count > MAX_LEAF => Some(s),
@@ -242,7 +247,7 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
             Some(s) => s,
             None => {
                 let mid = task.start + count / 2;
-                if must_balance {
+                if median {
                     let e = task.centroids.max - task.centroids.min;
                     let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
                     prims[range.clone()].select_nth_unstable_by(count / 2, |a, b| a.centroid()[axis].total_cmp(&b.centroid()[axis]));
