@@ -78,21 +78,71 @@ impl SceneTexture {
         SceneTexture { texture, view }
     }
 
-    fn write(&self, queue: &wgpu::Queue, bytes: &[u8]) {
-        let size = self.texture.size();
+    /// Writes the texels of `new` that differ from `old` (the same array
+    /// before), which start at texel `base` of the texture: one span, from
+    /// the first differing texel to the last. A moving light rewrites the
+    /// few TLAS nodes it moved, not the whole geometry. True if any differed.
+    fn write_changes(&self, queue: &wgpu::Queue, base: usize, old: &[u8], new: &[u8]) -> bool {
         // The arrays of one scene keep their lengths (SceneBvh pads the TLAS).
-        debug_assert!(scene_texture_rows(bytes.len()) <= u64::from(size.height));
-        queue.write_texture(
-            self.texture.as_image_copy(),
-            &padded_rows(bytes, size.height),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(SCENE_TEXTURE_WIDTH * TEXEL_BYTES as u32),
-                rows_per_image: Some(size.height),
-            },
-            size,
-        );
+        debug_assert_eq!(old.len(), new.len());
+        if old.len() != new.len() {
+            return false;
+        }
+        let texels = || old.chunks_exact(TEXEL_BYTES).zip(new.chunks_exact(TEXEL_BYTES));
+        let Some(first) = texels().position(|(a, b)| a != b) else { return false };
+        let last = texels().rposition(|(a, b)| a != b).unwrap_or(first);
+        self.write_texels(queue, base + first, &new[first * TEXEL_BYTES..(last + 1) * TEXEL_BYTES]);
+        true
     }
+
+    /// Writes `bytes` (whole texels) from texel `first` on.
+    fn write_texels(&self, queue: &wgpu::Queue, first: usize, bytes: &[u8]) {
+        let mut rest = bytes;
+        for span in texel_spans(first, bytes.len() / TEXEL_BYTES) {
+            let (now, later) = rest.split_at(span.width * span.height * TEXEL_BYTES);
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d { x: span.x as u32, y: span.y as u32, z: 0 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                now,
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some((span.width * TEXEL_BYTES) as u32), rows_per_image: None },
+                wgpu::Extent3d { width: span.width as u32, height: span.height as u32, depth_or_array_layers: 1 },
+            );
+            rest = later;
+        }
+    }
+}
+
+/// A rectangle of a scene texture, in texels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct TexelSpan {
+    x: usize,
+    y: usize,
+    width: usize,
+    height: usize,
+}
+
+/// The rectangles that hold `count` texels from texel `first` on, in order:
+/// the rest of the first row, the whole rows, the start of the last.
+fn texel_spans(first: usize, count: usize) -> Vec<TexelSpan> {
+    let width = SCENE_TEXTURE_WIDTH as usize;
+    let (mut texel, mut left) = (first, count);
+    let mut spans = Vec::new();
+    while left > 0 {
+        let (x, y) = (texel % width, texel / width);
+        let span = if x == 0 && left >= width {
+            TexelSpan { x, y, width, height: left / width }
+        } else {
+            TexelSpan { x, y, width: (width - x).min(left), height: 1 }
+        };
+        texel += span.width * span.height;
+        left -= span.width * span.height;
+        spans.push(span);
+    }
+    spans
 }
 
 /// The records' bytes, zero-padded to whole rows.
@@ -153,33 +203,26 @@ impl SceneBuffers {
     /// scene never change (animation moves things, it does not add them).
     pub fn update(&mut self, queue: &wgpu::Queue, data: SceneData) -> bool {
         let mut changed = false;
-        fn differs<T: PartialEq>(old: &[T], new: &[T]) -> bool {
-            old != new && old.len() == new.len() && !new.is_empty()
-        }
         fn write<T: Pod + PartialEq>(queue: &wgpu::Queue, buf: &wgpu::Buffer, old: &[T], new: &[T], changed: &mut bool) {
-            if differs(old, new) {
+            if old != new && old.len() == new.len() && !new.is_empty() {
                 queue.write_buffer(buf, 0, bytemuck::cast_slice(new));
                 *changed = true;
             }
         }
-        fn write_texture<T: Pod + PartialEq>(queue: &wgpu::Queue, tex: &SceneTexture, old: &[T], new: &[T], changed: &mut bool) {
-            if differs(old, new) {
-                tex.write(queue, bytemuck::cast_slice(new));
-                *changed = true;
-            }
+        fn write_texture<T: Pod>(queue: &wgpu::Queue, tex: &SceneTexture, base: usize, old: &[T], new: &[T], changed: &mut bool) {
+            *changed |= tex.write_changes(queue, base, bytemuck::cast_slice(old), bytemuck::cast_slice(new));
         }
-        write_texture(queue, &self.spheres, &self.data.spheres, &data.spheres, &mut changed);
-        debug_assert_eq!(self.data.bvh.len(), data.bvh.len(), "the node array changed length");
-        if differs(&self.data.triangles, &data.triangles) || differs(&self.data.bvh, &data.bvh) {
-            self.geometry.write(queue, &geometry_bytes(&data));
-            changed = true;
-        }
-        write_texture(queue, &self.normals, &self.data.normals, &data.normals, &mut changed);
-        write(queue, &self.meshes, &self.data.meshes, &data.meshes, &mut changed);
-        write(queue, &self.materials, &self.data.materials, &data.materials, &mut changed);
-        write(queue, &self.lights, &self.data.lights, &data.lights, &mut changed);
-        write_texture(queue, &self.instances, &self.data.instances, &data.instances, &mut changed);
-        changed |= self.data.background != data.background;
+        let old = &self.data;
+        write_texture(queue, &self.spheres, 0, &old.spheres, &data.spheres, &mut changed);
+        write_texture(queue, &self.geometry, 0, &old.triangles, &data.triangles, &mut changed);
+        let node_base = std::mem::size_of_val(data.triangles.as_slice()) / TEXEL_BYTES;
+        write_texture(queue, &self.geometry, node_base, &old.bvh, &data.bvh, &mut changed);
+        write_texture(queue, &self.normals, 0, &old.normals, &data.normals, &mut changed);
+        write(queue, &self.meshes, &old.meshes, &data.meshes, &mut changed);
+        write(queue, &self.materials, &old.materials, &data.materials, &mut changed);
+        write(queue, &self.lights, &old.lights, &data.lights, &mut changed);
+        write_texture(queue, &self.instances, 0, &old.instances, &data.instances, &mut changed);
+        changed |= old.background != data.background;
         if changed {
             self.epoch = self.epoch.wrapping_add(1);
             self.data = data;
@@ -225,6 +268,25 @@ mod tests {
         assert_eq!(scene_texture_rows(3 * row - 16), 3);
         // 1M triangles (48 bytes) and their nodes fit a 16384-row texture.
         assert!(scene_texture_rows(1_000_000 * 48 + 623_540 * 32) <= 16384);
+    }
+
+    #[test]
+    fn texel_spans_cover_a_range_in_row_order() {
+        let w = SCENE_TEXTURE_WIDTH as usize;
+        let span = |x, y, width, height| TexelSpan { x, y, width, height };
+        assert_eq!(texel_spans(5, 0), vec![]);
+        assert_eq!(texel_spans(5, 10), vec![span(5, 0, 10, 1)]);
+        assert_eq!(texel_spans(w - 2, 5), vec![span(w - 2, 0, 2, 1), span(0, 1, 3, 1)]);
+        assert_eq!(texel_spans(3 * w, 2 * w), vec![span(0, 3, w, 2)]);
+        assert_eq!(
+            texel_spans(w + 7, 3 * w),
+            vec![span(7, 1, w - 7, 1), span(0, 2, w, 2), span(0, 4, 7, 1)],
+        );
+        // Every texel once, in order.
+        for (first, count) in [(0, 1), (1, w), (w - 1, 2 * w + 1), (12345, 54321)] {
+            let covered: usize = texel_spans(first, count).iter().map(|s| s.width * s.height).sum();
+            assert_eq!(covered, count);
+        }
     }
 
     #[test]
