@@ -125,10 +125,12 @@ impl Box3 {
 #[derive(Clone, Copy)]
 struct Bin {
     bounds: Box3,
+    /// Bounds of `lo + hi` (twice the centroids) of the bin's primitives.
+    centroid_sums: Box3,
     count: u32,
 }
 
-const EMPTY_BIN: Bin = Bin { bounds: Box3::EMPTY, count: 0 };
+const EMPTY_BIN: Bin = Bin { bounds: Box3::EMPTY, centroid_sums: Box3::EMPTY, count: 0 };
 
 struct Task {
     node: usize,
@@ -229,23 +231,18 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
         // falls back to the middle.
         let range = task.start..task.end;
         let mut sides = None;
+        let mut exact_sides = None;
         if let Some((axis, scale, bin)) = split.plane {
             let cmin = task.centroids.min[axis];
-            // bin_of(c) < bin as a float compare (the same for every
-            // centroid, NaN included: bin_of puts NaN in bin 0), with the
-            // axis fixed per loop.
-            let threshold = bin as f32;
-            let below = |x: f32| {
-                let v = (x - cmin) * scale;
-                v < threshold || v.is_nan()
-            };
+            let below = |x: f32| below_plane(x, cmin, scale, bin);
             let m = match axis {
-                0 => partition(&mut prims[range.clone()], 0, below),
-                1 => partition(&mut prims[range.clone()], 1, below),
-                _ => partition(&mut prims[range.clone()], 2, below),
+                0 => partition::<0>(&mut prims[range.clone()], below),
+                1 => partition::<1>(&mut prims[range.clone()], below),
+                _ => partition::<2>(&mut prims[range.clone()], below),
             };
             if m > 0 && m < count {
                 sides = Some(task.start + m);
+                exact_sides = split.sides;
             }
         }
         let mid = sides.unwrap_or_else(|| {
@@ -256,7 +253,12 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
             }
             task.start + count / 2
         });
-        let ((lb, lc), (rb, rc)) = (side_bounds(&prims[task.start..mid]), side_bounds(&prims[mid..task.end]));
+        // The sides' bounds come with the split when every primitive was
+        // binned (the partition puts exactly the bins below the plane left).
+        let [lb, lc, rb, rc] = exact_sides.unwrap_or_else(|| {
+            let ((lb, lc), (rb, rc)) = (side_bounds(&prims[task.start..mid]), side_bounds(&prims[mid..task.end]));
+            [lb, lc, rb, rc]
+        });
         let left = nodes.len();
         let mut l = BvhNode::zeroed();
         l.set_bounds(&lb.to_aabb());
@@ -335,21 +337,32 @@ fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: u32, max_de
 /// Sorts up to SMALL_MAX primitives by centroid along `axis` (ties by
 /// position): each goes to its rank, counted without branches.
 fn sort_by_rank(prims: &mut [Prim], axis: usize) {
+    if prims.len() <= MEDIAN_SPLIT_MAX {
+        sort_by_rank_in::<MEDIAN_SPLIT_MAX>(prims, axis);
+    } else {
+        sort_by_rank_in::<SMALL_MAX>(prims, axis);
+    }
+}
+
+/// `sort_by_rank` for up to N primitives.
+#[inline(always)]
+fn sort_by_rank_in<const N: usize>(prims: &mut [Prim], axis: usize) {
     let n = prims.len();
-    // Padding keys sort after every real one (ties go by position).
-    let mut keys = [i32::MAX; SMALL_MAX];
+    // Padding keys sort after every real one (ties go by position), so
+    // they never count towards a real rank.
+    let mut keys = [i32::MAX; N];
     for (k, p) in keys.iter_mut().zip(prims.iter()) {
         *k = centroid_key(p, axis);
     }
     // rank[i] = #{j : key j < key i, or equal and j < i}, for all i at
-    // once (fixed-size loops the compiler vectorises).
-    let mut rank = [0i32; SMALL_MAX];
-    for (j, &kj) in keys.iter().enumerate() {
+    // once (the fixed-size inner loop is vectorised).
+    let mut rank = [0i32; N];
+    for (j, &kj) in keys.iter().enumerate().take(n) {
         for (i, (r, &ki)) in rank.iter_mut().zip(keys.iter()).enumerate() {
             *r += ((ki > kj) | ((ki == kj) & (i > j))) as i32;
         }
     }
-    let mut sorted = [Prim { min: Vec4::ZERO, max: Vec4::ZERO }; SMALL_MAX];
+    let mut sorted = [Prim { min: Vec4::ZERO, max: Vec4::ZERO }; N];
     for (p, &r) in prims.iter().zip(rank.iter()) {
         sorted[r as usize] = *p;
     }
@@ -415,18 +428,29 @@ struct Split {
     cost: f32,
     /// (axis, bin scale, first bin of the right side); None: split in the middle.
     plane: Option<(usize, f32, usize)>,
+    /// When every primitive was binned: the bounds and centroid bounds of
+    /// the left and right sides, the union of their bins.
+    sides: Option<[Box3; 4]>,
 }
 
 impl Split {
     fn middle() -> Split {
-        Split { cost: f32::INFINITY, plane: None }
+        Split { cost: f32::INFINITY, plane: None, sides: None }
     }
+}
+
+/// `bin_of(c, ..) < first_right` as one float compare: the same for every
+/// centroid, NaN included (bin_of puts NaN in bin 0).
+#[inline(always)]
+fn below_plane(c: f32, cmin: f32, scale: f32, first_right: usize) -> bool {
+    let v = (c - cmin) * scale;
+    v < first_right as f32 || v.is_nan()
 }
 
 #[inline]
 fn bin_of(c: f32, cmin: f32, scale: f32) -> usize {
-    let b = ((c - cmin) * scale) as isize; // NaN -> 0
-    b.clamp(0, BINS as isize - 1) as usize
+    let b = ((c - cmin) * scale) as i32; // NaN -> 0
+    b.clamp(0, BINS as i32 - 1) as usize
 }
 
 #[inline(never)]
@@ -451,7 +475,12 @@ fn best_split(prims: &[Prim], cb: &Box3, bins: &mut [Bin; BINS]) -> Option<Split
     // Clear only the bins this node uses (the scratch is reused across nodes).
     bins[..nb].fill(EMPTY_BIN);
     let stride = prims.len().div_ceil(SAMPLE_ABOVE).max(1);
-    bin_one_axis(prims, stride, axis, cb.min[axis], scale, bins);
+    let cmin = cb.min[axis];
+    match axis {
+        0 => bin_one_axis::<0>(prims, stride, cmin, scale, bins),
+        1 => bin_one_axis::<1>(prims, stride, cmin, scale, bins),
+        _ => bin_one_axis::<2>(prims, stride, cmin, scale, bins),
+    }
     // Right-to-left sweep: areas and counts of the right sides.
     let mut right_area = [0.0f32; BINS];
     let mut right_count = [0u32; BINS];
@@ -475,20 +504,61 @@ fn best_split(prims: &[Prim], cb: &Box3, bins: &mut [Bin; BINS]) -> Option<Split
         // Counts of a sample stand for `stride` primitives each.
         let cost = (left.half_area() * nl as f32 + right_area[i] * right_count[i] as f32) * stride as f32;
         if best.as_ref().is_none_or(|b| cost < b.cost) {
-            best = Some(Split { cost, plane: Some((axis, scale, i)) });
+            best = Some(Split { cost, plane: Some((axis, scale, i)), sides: None });
+        }
+    }
+    if let Some(Split { plane: Some((_, _, first_right)), sides, .. }) = &mut best {
+        if stride == 1 {
+            let side = |bins: &[Bin]| {
+                let (mut b, mut c) = (Box3::EMPTY, Box3::EMPTY);
+                for bin in bins {
+                    b.union(&bin.bounds);
+                    c.union(&bin.centroid_sums);
+                }
+                (c.min, c.max) = (c.min * 0.5, c.max * 0.5);
+                (b, c)
+            };
+            let ((lb, lc), (rb, rc)) = (side(&bins[..*first_right]), side(&bins[*first_right..nb]));
+            *sides = Some([lb, lc, rb, rc]);
         }
     }
     best
 }
 
-/// Bins every `stride`-th primitive along `axis`.
+/// Bins every `stride`-th primitive along `AXIS`. Consecutive primitives
+/// alternate between two sets of bins, merged at the end: neighbours in a
+/// mesh mostly fall in the same bin, and with one set each update waited
+/// for the store of the one before.
 #[inline(never)]
-fn bin_one_axis(prims: &[Prim], stride: usize, axis: usize, cmin: f32, scale: f32, bins: &mut [Bin; BINS]) {
-    for p in prims.iter().step_by(stride) {
-        let c = (p.min[axis] + p.max[axis]) * 0.5;
-        let bin = &mut bins[bin_of(c, cmin, scale)];
-        bin.bounds.grow(p.lo(), p.hi());
+fn bin_one_axis<const AXIS: usize>(prims: &[Prim], stride: usize, cmin: f32, scale: f32, bins: &mut [Bin; BINS]) {
+    #[inline(always)]
+    fn add<const AXIS: usize>(bins: &mut [Bin; BINS], p: &Prim, cmin: f32, scale: f32) {
+        let (lo, hi) = (p.lo(), p.hi());
+        let sum = lo + hi;
+        let bin = &mut bins[bin_of(sum[AXIS] * 0.5, cmin, scale)];
+        bin.bounds.grow(lo, hi);
+        bin.centroid_sums.grow(sum, sum);
         bin.count += 1;
+    }
+    let mut other = [EMPTY_BIN; BINS];
+    if stride == 1 {
+        let pairs = prims.chunks_exact(2);
+        if let [p] = pairs.remainder() {
+            add::<AXIS>(bins, p, cmin, scale);
+        }
+        for pair in pairs {
+            add::<AXIS>(bins, &pair[0], cmin, scale);
+            add::<AXIS>(&mut other, &pair[1], cmin, scale);
+        }
+    } else {
+        for (k, p) in prims.iter().step_by(stride).enumerate() {
+            add::<AXIS>(if k % 2 == 0 { &mut *bins } else { &mut other }, p, cmin, scale);
+        }
+    }
+    for (b, o) in bins.iter_mut().zip(other.iter()) {
+        b.bounds.union(&o.bounds);
+        b.centroid_sums.union(&o.centroid_sums);
+        b.count += o.count;
     }
 }
 
@@ -498,14 +568,14 @@ fn bin_one_axis(prims: &[Prim], stride: usize, axis: usize, cmin: f32, scale: f3
 /// meant indexing the four boxes by the test's result, a store and reload
 /// per primitive that held the loop to the store-forwarding latency.
 #[inline(never)]
-fn partition(prims: &mut [Prim], axis: usize, left: impl Fn(f32) -> bool) -> usize {
+fn partition<const AXIS: usize>(prims: &mut [Prim], left: impl Fn(f32) -> bool) -> usize {
     let mut j = 0;
     for i in 0..prims.len() {
-        let p = prims[i];
-        let l = left((p.min[axis] + p.max[axis]) * 0.5) as usize;
-        // [0, j) went left, [j, i] right.
-        prims[i] = prims[j];
-        prims[j] = p;
+        let l = left((prims[i].min[AXIS] + prims[i].max[AXIS]) * 0.5) as usize;
+        // [0, j) went left, [j, i] right. A whole-element swap: copying the
+        // element out by value let the compiler split it into scalars, and
+        // the next vector load of the same element missed store forwarding.
+        prims.swap(i, j);
         j += l;
     }
     j
@@ -661,6 +731,36 @@ mod tests {
         for node in bvh.nodes.iter().filter(|n| n.is_leaf()) {
             let xs: Vec<f32> = (node.left_first..node.left_first + node.count).map(|k| b[bvh.order[k as usize] as usize].min.x).collect();
             assert!(xs.windows(2).all(|w| w[1] == w[0] + 1.0), "leaf not a sorted run: {xs:?}");
+        }
+    }
+
+    #[test]
+    fn the_partition_test_agrees_with_the_bins_for_every_kind_of_float() {
+        // The children's bounds are the union of their bins, so the
+        // partition must put exactly the bins below the plane on the left.
+        let mut s = 99u32;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            s
+        };
+        let specials = [0.0, -0.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, f32::MAX, f32::MIN_POSITIVE, 1e-40];
+        for _ in 0..20000 {
+            let cmin = f32::from_bits(next() >> 2) * if next() % 2 == 0 { 1.0 } else { -1.0 };
+            let extent = (f32::from_bits(next() >> 2)).max(1e-30);
+            let scale = BINS as f32 * (1.0 - 1e-6) / extent;
+            // Near a bin boundary, then a few ulps either side of it.
+            let near = cmin + (next() % (BINS as u32 + 1)) as f32 / scale;
+            let c = match next() % 4 {
+                0 => specials[next() as usize % specials.len()],
+                1 => f32::from_bits(next()),
+                2 => near,
+                _ => f32::from_bits(near.to_bits().wrapping_add(next() % 5).wrapping_sub(2)),
+            };
+            for first_right in 1..BINS {
+                assert_eq!(below_plane(c, cmin, scale, first_right), bin_of(c, cmin, scale) < first_right, "c = {c:e}, cmin = {cmin:e}, scale = {scale:e}, bin {first_right}");
+            }
         }
     }
 
