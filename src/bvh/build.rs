@@ -208,7 +208,7 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
     while let Some(task) = stack.pop() {
         let count = task.end - task.start;
         if count <= SMALL_MAX {
-            build_small(&mut prims[task.start..task.end], task.start, task.node, task.depth, max_depth, &mut nodes);
+            build_small(&mut prims[task.start..task.end], task.start, task.node, task.depth, max_depth, &mut nodes, None);
             continue;
         }
         let node_area = nodes[task.node].bounds().half_area();
@@ -302,7 +302,7 @@ const SMALL_MAX: usize = 32;
 /// Through the general path, with its bins, partition and task per node,
 /// the nodes under 16 primitives took 30% of a 1M-triangle build, mostly
 /// fixed costs and mispredicted branches.
-fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: u32, max_depth: u32, nodes: &mut Vec<BvhNode>) {
+fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: u32, max_depth: u32, nodes: &mut Vec<BvhNode>, sorted_along: Option<usize>) {
     let n = prims.len();
     if n <= MAX_LEAF {
         nodes[node].left_first = first as u32;
@@ -316,7 +316,12 @@ fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: u32, max_de
     }
     let e = centroids.max - centroids.min;
     let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
-    sort_by_rank(prims, axis);
+    // A run of primitives sorted along this axis is already in order (and
+    // in the same order for ties: the sort is stable), so it is sorted
+    // again only when the axis changes.
+    if sorted_along != Some(axis) {
+        sort_by_rank(prims, axis);
+    }
     let median = n <= MEDIAN_SPLIT_MAX || depth + balanced_levels(n) >= max_depth;
     let mid = if median { n / 2 } else { sah_sweep(prims) };
     let left = nodes.len();
@@ -332,8 +337,8 @@ fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: u32, max_de
     nodes[node].left_first = left as u32;
     nodes[node].count = 0;
     let (l, r) = prims.split_at_mut(mid);
-    build_small(l, first, left, depth + 1, max_depth, nodes);
-    build_small(r, first + mid, left + 1, depth + 1, max_depth, nodes);
+    build_small(l, first, left, depth + 1, max_depth, nodes, Some(axis));
+    build_small(r, first + mid, left + 1, depth + 1, max_depth, nodes, Some(axis));
 }
 
 /// Sorts up to SMALL_MAX primitives by centroid along `axis` (ties by
