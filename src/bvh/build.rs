@@ -1,12 +1,12 @@
 //! Binned SAH builder (Wald 2007): at each node the primitives' centroids
 //! are binned along the widest centroid axis (a strided sample of the
-//! primitives for large nodes), the
-//! cheapest plane by the surface area heuristic is taken, and a node
-//! becomes a leaf when splitting costs more than intersecting its
-//! primitives (at most `MAX_LEAF` of them). The partition that follows sees
-//! every primitive; the exact child bounds are gathered after it. Subtrees
-//! of up to SMALL_MAX primitives are built by sorting instead (see
-//! `build_small`).
+//! primitives for large nodes) and the cheapest plane by the surface area
+//! heuristic is taken; the partition that follows sees every primitive.
+//! Subtrees of up to SMALL_MAX primitives are built by sorting instead (see
+//! `build_small`). Nodes of at most `MAX_LEAF` primitives are leaves:
+//! splitting a handful of triangles saves little traversal (measured on a
+//! 1M-triangle knot: same Mrays/s) and costs a third of the build time and
+//! half the nodes.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec3A, Vec4};
@@ -18,17 +18,11 @@ use super::Aabb;
 /// shaders/shared/bvh.wgsl), so this must stay below 8.
 pub const MAX_LEAF: usize = 4;
 const _: () = assert!(MAX_LEAF < 8);
-/// Nodes this small become leaves without evaluating the SAH: splitting a
-/// handful of triangles saves little traversal (measured on a 1M-triangle
-/// knot: same Mrays/s) and costs a third of the build time and half the nodes.
-const MIN_SPLIT: usize = MAX_LEAF + 1;
 const BINS: usize = 12;
 /// Nodes of up to this many primitives are split at their centroid median
 /// into two leaves without an SAH search (on a 1M-triangle knot: build
 /// -12%, traversal steps per primary ray +1.2%).
 const MEDIAN_SPLIT_MAX: usize = 2 * MAX_LEAF;
-/// Cost of one traversal step relative to one primitive test.
-const TRAVERSAL_COST: f32 = 1.0;
 
 /// `struct BvhNode` in shaders/shared/bvh.wgsl (32 bytes). Interior nodes
 /// have `count == 0` and children at `left_first` and `left_first + 1`;
@@ -211,21 +205,12 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
             build_small(&mut prims[task.start..task.end], task.start, task.node, task.depth, max_depth, &mut nodes, None);
             continue;
         }
-        let node_area = nodes[task.node].bounds().half_area();
-        let too_deep = task.depth + balanced_levels(count) >= max_depth;
-        let median = count > MAX_LEAF && too_deep;
-        let split = if count >= MIN_SPLIT && !median { best_split(&prims[task.start..task.end], &task.centroids, &mut bins) } else { None };
-        let split = match split {
-            Some(s) if node_area > 0.0 && TRAVERSAL_COST + s.cost / node_area < count as f32 => Some(s),
-            Some(s) if count > MAX_LEAF => Some(s),
-            _ if count > MAX_LEAF => Some(Split::middle()),
-            _ => None,
-        };
-        let Some(split) = split else {
-            nodes[task.node].left_first = task.start as u32;
-            nodes[task.node].count = count as u32;
-            continue;
-        };
+        // More than SMALL_MAX primitives: always split, at the SAH plane, at
+        // the centroid median when the depth bound is near, or in the middle
+        // when no plane separates the centroids.
+        let median = task.depth + balanced_levels(count) >= max_depth;
+        let split = if median { None } else { best_split(&prims[task.start..task.end], &task.centroids, &mut bins) };
+        let split = split.unwrap_or_else(Split::middle);
         // Partition by the chosen bin (child bounds gathered on the way); a
         // degenerate result (all on one side, possible with NaN centroids)
         // falls back to the middle.
@@ -467,11 +452,7 @@ fn bin_of(c: f32, cmin: f32, scale: f32) -> usize {
 fn best_split(prims: &[Prim], cb: &Box3, bin_sets: &mut [[Bin; BINS]; 2]) -> Option<Split> {
     // Fewer bins for small nodes: their fixed cost (clearing and sweeping
     // bins) dominates the build, and a handful of primitives needs few planes.
-    let nb = match prims.len() {
-        0..16 => 4,
-        16..64 => 8,
-        _ => BINS,
-    };
+    let nb = if prims.len() < 64 { 8 } else { BINS };
     // Binned along the widest centroid axis only: the SAH plane is almost
     // always there, and binning one axis instead of three is cheaper (on a
     // 1M-triangle knot, three axes for nodes up to 256 primitives took 20%
