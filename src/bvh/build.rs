@@ -211,9 +211,8 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
         let median = task.depth + balanced_levels(count) >= max_depth;
         let split = if median { None } else { best_split(&prims[task.start..task.end], &task.centroids, &mut bins) };
         let split = split.unwrap_or_else(Split::middle);
-        // Partition by the chosen bin (child bounds gathered on the way); a
-        // degenerate result (all on one side, possible with NaN centroids)
-        // falls back to the middle.
+        // Partition by the chosen bin; a degenerate result (all on one side,
+        // possible with NaN centroids) falls back to the middle.
         let range = task.start..task.end;
         let mut sides = None;
         let mut exact_sides = None;
