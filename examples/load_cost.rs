@@ -4,7 +4,7 @@
 //! buffer, a private array (push and pop), and no load at all. Each
 //! invocation of a 1920x1080 dispatch walks K dependent loads through N
 //! records (random next pointers). This measurement is why the scene arrays
-//! traversal reads live in textures (src/gpu/scene_buffers.rs).
+//! traversal reads live in textures (src/scene/buffers.rs).
 //!
 //!   WGPU_BACKEND=vulkan cargo run --release --example load_cost [N=65536] [K=64]
 

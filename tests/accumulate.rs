@@ -9,10 +9,8 @@ use glint::camera_path::CameraPath;
 use glint::gpu::readback::ImageF32;
 use glint::gpu::Gpu;
 use glint::graph::edit::{GraphEdits, ParamSet};
-use glint::graph::executor::Timing;
 use glint::graph::{self, CompileOptions};
 use glint::metrics;
-use glint::render::Renderer;
 
 const SIZE: (u32, u32) = (64, 64);
 const DT: f32 = 1.0 / 30.0;
@@ -42,12 +40,12 @@ impl Run<'_> {
             .unwrap_or_else(|e| panic!("{e}"));
         let base = scene.camera;
         let path = CameraPath::parse(&format!("orbit:{}", self.orbit)).expect("orbit");
-        let mut r = Renderer::new(gpu, scene, &compiled, SIZE, self.seed).unwrap_or_else(|e| panic!("{e}"));
+        let mut r = session(gpu, scene, &compiled, SIZE, self.seed);
         for i in 0..self.frames {
-            r.scene.camera = path.at(&base, DT * i as f32);
-            r.frame(gpu, self.scene_dt * i as f32, Timing::None).unwrap_or_else(|e| panic!("{e}"));
+            r.scene.scene.camera = path.at(&base, DT * i as f32);
+            r.frame(self.scene_dt * i as f32);
         }
-        r.read_output(gpu).unwrap_or_else(|e| panic!("{e}"))
+        r.read_output().unwrap_or_else(|e| panic!("{e}"))
     }
 }
 
@@ -123,9 +121,9 @@ fn render_still(gpu: &Gpu, r: &Run, camera: glint::scene::Camera) -> ImageF32 {
     scene.camera = camera;
     let compiled = graph::load_and_compile(&repo().join("passes").join(r.graph), &repo().join("shaders"), &scene.features, &CompileOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
-    let mut renderer = Renderer::new(gpu, scene, &compiled, SIZE, r.seed).unwrap_or_else(|e| panic!("{e}"));
+    let mut renderer = session(gpu, scene, &compiled, SIZE, r.seed);
     for _ in 0..r.frames {
-        renderer.frame(gpu, 0.0, Timing::None).unwrap_or_else(|e| panic!("{e}"));
+        renderer.frame(0.0);
     }
-    renderer.read_output(gpu).unwrap_or_else(|e| panic!("{e}"))
+    renderer.read_output().unwrap_or_else(|e| panic!("{e}"))
 }

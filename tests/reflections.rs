@@ -4,10 +4,8 @@
 mod common;
 
 use common::*;
-use glint::graph::executor::Timing;
 use glint::graph::CompileOptions;
 use glint::metrics;
-use glint::render::Renderer;
 use glint::stats::{ReuseShare, REFLECT_REUSE};
 
 fn hybrid_with_reuse(reuse: u32) -> std::path::PathBuf {
@@ -44,11 +42,11 @@ fn reuse_matches_tracing_and_is_used() {
     let options = CompileOptions { keep: vec![REFLECT_REUSE.to_string()], ..Default::default() };
     let compiled = glint::graph::load_and_compile(&hybrid_with_reuse(1), &repo().join("shaders"), &scene.features, &options)
         .unwrap_or_else(|e| panic!("{e}"));
-    let mut r = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
-    r.frame(gpu, 0.0, Timing::None).unwrap_or_else(|e| panic!("{e}"));
-    let kept = r.executor.read_resource(gpu, REFLECT_REUSE).expect("kept").unwrap_or_else(|e| panic!("{e}"));
+    let mut r = session(gpu, scene, &compiled, size, 1);
+    r.frame(0.0);
+    let kept = r.read_resource(REFLECT_REUSE).expect("kept").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(ReuseShare::of(&kept), ReuseShare { reused, specular });
-    assert!(r.executor.read_resource(gpu, "gbuf_id").is_none(), "only kept resources can be read");
+    assert!(r.read_resource("gbuf_id").is_none(), "only kept resources can be read");
 }
 
 #[test]

@@ -1,12 +1,10 @@
 //! Moving lights and meshes are uploaded in place, only the texels that
-//! changed (src/gpu/scene_buffers.rs): after several frames of motion the
+//! changed (src/scene/buffers.rs): after several frames of motion the
 //! GPU must hold exactly what a fresh upload of the moved scene holds.
 
 mod common;
 
 use common::*;
-use glint::graph::executor::Timing;
-use glint::render::Renderer;
 
 const SCENE: &str = r#"Scene(
     camera: Camera(position: (0.0, 0.0, 3.4), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),
@@ -34,18 +32,18 @@ fn incremental_uploads_match_a_fresh_upload() {
     // Moved frame by frame: each update writes the texels that changed.
     let scene = scene_from(SCENE);
     let compiled = compile(&scene, &graph, &Default::default());
-    let mut moved = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
+    let mut moved = session(gpu, scene, &compiled, size, 1);
     for t in [0.0, 0.4, 1.1, 1.7, end] {
-        moved.frame(gpu, t, Timing::None).unwrap_or_else(|e| panic!("{e}"));
+        moved.frame(t);
     }
-    let incremental = moved.read_output(gpu).unwrap_or_else(|e| panic!("{e}"));
+    let incremental = moved.read_output().unwrap_or_else(|e| panic!("{e}"));
 
     // The scene already at `end` when the renderer is made: one full upload.
     let mut scene = scene_from(SCENE);
     assert!(scene.animate(end));
-    let mut fresh = Renderer::new(gpu, scene, &compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
-    fresh.frame(gpu, end, Timing::None).unwrap_or_else(|e| panic!("{e}"));
-    let full = fresh.read_output(gpu).unwrap_or_else(|e| panic!("{e}"));
+    let mut fresh = session(gpu, scene, &compiled, size, 1);
+    fresh.frame(end);
+    let full = fresh.read_output().unwrap_or_else(|e| panic!("{e}"));
 
     let hits = full.data.iter().filter(|p| p[0].is_finite()).count();
     assert!(hits > size.0 as usize * size.1 as usize / 10, "the scene should fill the view ({hits} hits)");

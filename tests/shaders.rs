@@ -4,7 +4,7 @@
 mod common;
 
 use common::repo;
-use glint::gpu::frame::{CameraGpu, FrameGpu};
+use glint::session::frame_uniform::{CameraGpu, FrameGpu};
 use glint::bvh::scene::InstanceGpu;
 use glint::bvh::BvhNode;
 use glint::scene::{LightGpu, MaterialGpu, MeshGpu, SphereGpu, TriangleGpu, TriangleNormalsGpu};

@@ -12,7 +12,7 @@ use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
 use crate::graph::{self, CompileOptions};
 use crate::metrics::median;
-use crate::render::{check_size, Renderer};
+use crate::session::{check_size, Session, SessionOptions};
 
 #[derive(Subcommand, Debug)]
 pub enum BenchCommand {
@@ -99,9 +99,8 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     check_size(&gpu, args.size)?;
     let graph_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/bench-rays.ron");
     let graph_path = if Path::new("passes/bench-rays.ron").is_file() { PathBuf::from("passes/bench-rays.ron") } else { graph_path };
-    let compiled = graph::load_and_compile(&graph_path, &graph::shader_dir_for(&graph_path), &scene.features, &CompileOptions::default())?;
-    let mut renderer = Renderer::new(&gpu, scene, &compiled, args.size, 1)?;
-    let build = renderer.bvh_stats;
+    let mut session = Session::new(&gpu, scene, &graph_path, SessionOptions::new(args.size))?;
+    let build = session.scene.bvh_stats;
     out!("adapter={}", gpu.describe());
     out!("triangles={triangles}");
     out!("obj_load_ms={load_ms:.1}");
@@ -122,27 +121,32 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     let build_ms = median(&build_ms);
     out!("bvh_build_ms={build_ms:.1}");
     out!("bvh_build_mtri_per_s={:.2}", bounds.len() as f64 / (build_ms * 1e3));
-    out!("bvh_nodes={}", renderer.buffers.data.bvh.len());
+    out!("bvh_nodes={}", session.scene.buffers.data.bvh.len());
 
     // Warm up (pipeline compilation, first-touch), then time each pass.
-    renderer.frame(&gpu, 0.0, Timing::WallPerPass)?;
+    session.timing = Timing::WallPerPass;
+    session.frame(0.0);
     let mut wall: Vec<Vec<f64>> = vec![Vec::new(); 3];
     let mut stamps: Vec<Vec<f64>> = vec![Vec::new(); 3];
-    for _ in 0..args.runs.max(1) {
-        if let Some(ms) = renderer.frame(&gpu, 0.0, Timing::WallPerPass)? {
-            for (w, m) in wall.iter_mut().zip(ms) {
+    let record = |into: &mut Vec<Vec<f64>>, timings: Vec<crate::graph::executor::PassTimings>| {
+        for t in timings {
+            for (w, (_, m)) in into.iter_mut().zip(t.passes) {
                 w.push(m);
             }
         }
-        if Timing::for_adapter(&gpu) == Timing::Gpu {
-            if let Some(ms) = renderer.frame(&gpu, 0.0, Timing::Gpu)? {
-                for (w, m) in stamps.iter_mut().zip(ms) {
-                    w.push(m);
-                }
-            }
+    };
+    for _ in 0..args.runs.max(1) {
+        session.timing = Timing::WallPerPass;
+        let t = session.frame(0.0);
+        record(&mut wall, t);
+        if Timing::stamps_bracket_work(&gpu) {
+            session.timing = Timing::Gpu;
+            session.frame(0.0);
+            let t = session.finish();
+            record(&mut stamps, t);
         }
     }
-    let out = renderer.read_output(&gpu)?;
+    let out = session.read_output()?;
     let pixels = (args.size.0 * args.size.1) as f64;
     let hits = out.data.iter().filter(|p| p[0].is_finite()).count() as f64;
     out!("primary_rays={pixels}");
@@ -195,7 +199,8 @@ fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usiz
         }
     }
     let triangles = scene.triangle_count();
-    let mut compiled = graph::load_and_compile(&args.graph, &graph::shader_dir_for(&args.graph), &scene.features, &CompileOptions::default())?;
+    let shader_dir = graph::shader_dir_for(&args.graph);
+    let mut compiled = graph::load_and_compile(&args.graph, &shader_dir, &scene.features, &CompileOptions::default())?;
     if args.brute_force {
         for pass in &mut compiled.schedule.passes {
             let has = compiled.shaders.get(&pass.shader).is_some_and(|s| s.info.overrides.iter().any(|o| o.name == "BRUTE_FORCE"));
@@ -204,12 +209,13 @@ fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usiz
             }
         }
     }
-    let mut renderer = Renderer::new(gpu, scene, &compiled, args.size, 1)?;
-    renderer.frame(gpu, 0.0, Timing::WallPerPass)?;
+    let mut session = Session::with_graph(gpu, scene, compiled, shader_dir, SessionOptions::new(args.size))?;
+    session.timing = Timing::WallPerPass;
+    session.frame(0.0);
     let mut ms = Vec::new();
     for _ in 0..args.frames.max(1) {
         let start = Instant::now();
-        renderer.frame(gpu, 0.0, Timing::WallPerPass)?;
+        session.frame(0.0);
         ms.push(start.elapsed().as_secs_f64() * 1e3);
     }
     Ok((median(&ms), triangles))

@@ -19,7 +19,7 @@ use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
 use crate::graph::{self, CompileOptions};
 use crate::metrics::{self, median};
-use crate::render::{check_size, Renderer};
+use crate::session::{check_size, Session, SessionOptions};
 use crate::scene;
 
 #[derive(Args, Debug)]
@@ -86,36 +86,47 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
     out!("size={}x{}", args.size.0, args.size.1);
 
     // The reference: a still camera where the measured run ends.
-    let mut reference_renderer = Renderer::new(&gpu, scene0, &compiled, args.size, REFERENCE_SEED)?;
-    reference_renderer.scene.camera = camera_at(args.frames - 1);
+    let shader_dir = graph::shader_dir_for(&args.graph);
+    let session_options = |seed: u32| SessionOptions { seed, compile: options.clone(), shader_dir: Some(shader_dir.clone()), ..SessionOptions::new(args.size) };
+    let mut reference_session = Session::with_graph(&gpu, scene0, compiled.clone(), shader_dir.clone(), session_options(REFERENCE_SEED))?;
+    reference_session.scene.scene.camera = camera_at(args.frames - 1);
     for _ in 0..args.reference_frames {
-        reference_renderer.frame(&gpu, args.time, Timing::None)?;
+        reference_session.frame(args.time);
     }
-    let reference = reference_renderer.read_output(&gpu)?;
-    drop(reference_renderer);
+    let reference = reference_session.read_output()?;
+    drop(reference_session);
     out!("reference_frames={}", args.reference_frames);
     if let Some(p) = &args.reference_out {
         crate::image_io::save(&reference, p)?;
     }
 
-    let mut renderer = Renderer::new(&gpu, scene::load(&args.scene)?, &compiled, args.size, RUN_SEED)?;
-    let timing = Timing::for_adapter(&gpu);
+    let mut session = Session::with_graph(&gpu, scene::load(&args.scene)?, compiled, shader_dir.clone(), session_options(RUN_SEED))?;
+    // Frame time is what counts here: GPU timestamps where they bracket the
+    // work, else the wall time of the whole frame (waited for).
+    session.timing = if Timing::stamps_bracket_work(&gpu) { Timing::Gpu } else { Timing::None };
     // One untimed frame first: drivers may finish compiling on first use.
-    renderer.frame(&gpu, args.time, timing)?;
-    renderer.reset_accumulation();
+    session.frame(args.time);
+    session.finish();
+    session.reset_accumulation();
     let mut frame_ms = Vec::new();
     let mut reached: Vec<Option<(u32, f64)>> = vec![None; args.flip.len()];
     let strictest = args.flip.iter().copied().fold(f32::INFINITY, f32::min);
     let mut last: Option<(ImageF32, f32)> = None;
     for i in 0..args.frames {
-        renderer.scene.camera = camera_at(i);
-        let ms = renderer.frame(&gpu, args.time, timing)?.map(|v| v.iter().sum::<f64>()).unwrap_or(0.0);
+        session.scene.scene.camera = camera_at(i);
+        let start = std::time::Instant::now();
+        session.frame(args.time);
+        let stamps = session.finish();
+        let ms = match stamps.last() {
+            Some(t) if session.timing == Timing::Gpu => t.total(),
+            _ => start.elapsed().as_secs_f64() * 1e3,
+        };
         frame_ms.push(ms);
         // With a moving camera only the last frame is compared.
         if path.is_some() && i + 1 < args.frames {
             continue;
         }
-        let image = renderer.read_output(&gpu)?;
+        let image = session.read_output()?;
         let (flip, _) = metrics::flip(&reference, &image);
         let total: f64 = frame_ms.iter().sum();
         out!("step frame={} flip={:.5} ms_total={total:.1}", i + 1, flip.mean);

@@ -22,6 +22,7 @@ mod bench_cmd;
 mod converge_cmd;
 mod graph_cmd;
 mod render_cmd;
+mod watch_cmd;
 
 use std::path::PathBuf;
 

@@ -5,16 +5,16 @@ use std::time::Instant;
 
 use clap::Args;
 
+use crate::camera_path::CameraPath;
 use crate::error::UserError;
 use crate::gpu::Gpu;
-use crate::camera_path::CameraPath;
-use crate::graph::executor::Timing;
 use crate::graph::edit::{GraphEdits, ParamSet};
-use crate::graph::{self, CompileOptions};
+use crate::graph::executor::Timing;
+use crate::graph::CompileOptions;
 use crate::machines::{DeviceType, Machines};
 use crate::metrics::median;
-use crate::control::{Pid, PidConfig};
-use crate::render::{check_size, Renderer, DEFAULT_MASK_THRESHOLD};
+use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
+use crate::session::{check_size, Session, SessionOptions};
 use crate::stats::{ReuseShare, REFLECT_REUSE};
 use crate::{image_io, scene};
 
@@ -53,6 +53,15 @@ pub struct RenderArgs {
     /// (--time + --dt * frame).
     #[arg(long)]
     pub camera_path: Option<String>,
+    /// Per-pass times on CPU adapters (lavapipe), whose timestamps do not
+    /// bracket the work: each pass is then submitted alone and waited for,
+    /// which costs frame time. GPUs always report per-pass timestamps.
+    #[arg(long)]
+    pub profile: bool,
+    /// Keep running: re-render and rewrite the outputs after every good
+    /// save of a shader, the graph, the scene or its meshes (Ctrl-C ends).
+    #[arg(long)]
+    pub watch: bool,
     #[command(flatten)]
     pub edits: EditArgs,
 }
@@ -96,107 +105,116 @@ fn choose_graph(args: &RenderArgs, gpu: &Gpu) -> Result<(PathBuf, Option<f64>), 
     Ok((machines.parent().unwrap_or(Path::new(".")).join(&p.graph), Some(f64::from(p.target_ms))))
 }
 
-pub fn run(args: RenderArgs) -> Result<(), UserError> {
-    if args.frames == 0 {
-        return Err(UserError::new("--frames 0 renders nothing; give at least 1"));
-    }
-    for out in &args.out {
+fn check_outputs(outs: &[PathBuf]) -> Result<(), UserError> {
+    for out in outs {
         let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if !matches!(ext.as_deref(), Some("png") | Some("exr") | Some("pfm")) {
             return Err(UserError::in_file(out, "the output must end in .png, .exr or .pfm"));
         }
     }
+    Ok(())
+}
+
+/// The session and frame loop `render` (and `render --watch`) run.
+pub(super) struct Prepared {
+    pub session: Session,
+    pub frames: FrameLoop,
+    pub graph_path: PathBuf,
+}
+
+pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
+    if args.frames == 0 {
+        return Err(UserError::new("--frames 0 renders nothing; give at least 1"));
+    }
+    check_outputs(&args.out)?;
     let scene = scene::load(&args.scene)?;
     let camera_path = args.camera_path.as_deref().map(CameraPath::parse).transpose()?;
-    let base_camera = scene.camera;
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
-    let (graph_path, profile_target) = choose_graph(&args, &gpu)?;
-    let options = CompileOptions { output: args.output.clone(), edits: args.edits.edits(), keep: vec![REFLECT_REUSE.to_string()] };
-    let compiled = graph::load_and_compile(&graph_path, &graph::shader_dir_for(&graph_path), &scene.features, &options)?;
-    eprintln!(
-        "glint: {} on {}, graph `{}` ({} passes, {} culled), {}x{}, {} frame(s)",
-        args.scene.display(),
-        gpu.describe(),
-        compiled.schedule.name,
-        compiled.schedule.passes.len(),
-        compiled.schedule.culled.len(),
-        args.size.0,
-        args.size.1,
-        args.frames
-    );
-    let mut renderer = Renderer::new(&gpu, scene, &compiled, args.size, args.seed)?;
+    let (graph_path, profile_target) = choose_graph(args, &gpu)?;
+    let target = args.target_ms.or(profile_target).map(FrameTarget::new).transpose()?;
+    let mut options = SessionOptions::new(args.size);
+    options.seed = args.seed;
+    options.compile = CompileOptions { output: args.output.clone(), edits: args.edits.edits(), keep: vec![REFLECT_REUSE.to_string()] };
+    let mut frames = FrameLoop::new(args.time, Clock::Fixed { dt: args.dt }, scene.camera);
+    frames.camera_path = camera_path;
+    frames.target = target;
+    let mut session = Session::new(&gpu, scene, &graph_path, options)?;
+    session.timing = Timing::for_adapter(&gpu, args.profile);
+    Ok(Prepared { session, frames, graph_path })
+}
+
+/// Renders `frames` frames from the loop's start and writes the outputs.
+pub(super) fn render_frames(args: &RenderArgs, session: &mut Session, frames: &mut FrameLoop, quiet: bool) -> Result<(), UserError> {
     let bar = indicatif::ProgressBar::new(u64::from(args.frames));
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames, {elapsed} (eta {eta})")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let timing = Timing::for_adapter(&gpu);
-    let mut pid = match args.target_ms.or(profile_target) {
-        Some(t) if t.is_finite() && t > 0.0 => Some((t, Pid::new(PidConfig::frame_time(), f64::from(DEFAULT_MASK_THRESHOLD)))),
-        Some(t) => return Err(UserError::new(format!("--target-ms {t}: give a positive number of milliseconds"))),
-        None => None,
-    };
     let start = Instant::now();
-    let mut frame_ms = Vec::new();
-    let mut pass_ms: Vec<Vec<f64>> = vec![Vec::new(); renderer.executor.pass_names().len()];
     for i in 0..args.frames {
-        let t0 = Instant::now();
-        let time = args.time + args.dt * i as f32;
-        if let Some(path) = &camera_path {
-            renderer.scene.camera = path.at(&base_camera, time);
-        }
-        let ms = renderer.frame(&gpu, time, timing)?;
-        let ms_wall = t0.elapsed().as_secs_f64() * 1e3;
-        frame_ms.push(ms_wall);
-        if let Some((target, pid)) = &mut pid {
-            // GPU time where timestamps bracket the work, else wall time.
-            let measured = match (&ms, timing) {
-                (Some(ms), Timing::Gpu) => ms.iter().sum(),
-                _ => ms_wall,
-            };
-            renderer.mask_threshold = pid.update(*target, measured, ms_wall / 1e3) as f32;
-        }
-        if let Some(ms) = ms {
-            for (acc, m) in pass_ms.iter_mut().zip(ms) {
-                acc.push(m);
-            }
-        }
-        if start.elapsed().as_secs_f32() > 1.0 {
+        frames.step(session);
+        if !quiet && start.elapsed().as_secs_f32() > 1.0 {
             bar.set_position(u64::from(i + 1));
         }
     }
+    frames.finish(session);
     bar.finish_and_clear();
-    let image = renderer.read_output(&gpu)?;
+    let image = session.read_output()?;
     for out in &args.out {
         image_io::save(&image, out)?;
     }
-    let gpu_total: f64 = pass_ms.iter().map(|v| median(v)).sum();
-    let how = match timing {
+    Ok(())
+}
+
+pub fn run(args: RenderArgs) -> Result<(), UserError> {
+    let Prepared { mut session, mut frames, graph_path } = prepare(&args)?;
+    eprintln!(
+        "glint: {} on {}, graph `{}` ({} passes, {} culled), {}x{}, {} frame(s)",
+        args.scene.display(),
+        session.gpu.describe(),
+        session.graph.schedule.name,
+        session.graph.schedule.passes.len(),
+        session.graph.schedule.culled.len(),
+        args.size.0,
+        args.size.1,
+        args.frames
+    );
+    let start = Instant::now();
+    render_frames(&args, &mut session, &mut frames, false)?;
+    print_summary(&args, &session, &frames, start.elapsed().as_secs_f64());
+    if args.watch {
+        return super::watch_cmd::watch(&args, session, frames, &graph_path);
+    }
+    Ok(())
+}
+
+fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, seconds: f64) {
+    let how = match session.timing {
         Timing::Gpu => "GPU timestamps",
-        _ => "wall clock, each pass submitted alone",
+        Timing::WallPerPass => "wall clock, each pass submitted alone (--profile)",
+        Timing::None => "not timed per pass on this adapter; --profile submits passes one by one to time them",
     };
+    let medians = frames.stats.pass_medians();
+    let pass_total: f64 = medians.iter().map(|(_, ms)| ms).sum();
     let outs: Vec<String> = args.out.iter().map(|p| p.display().to_string()).collect();
+    let passes = if medians.is_empty() { format!("per pass: {how}") } else { format!("sum of pass medians {pass_total:.2} ms ({how})") };
     out!(
-        "wrote {} ({}x{}); {} frames in {:.2} s; median {:.2} ms/frame wall; sum of pass medians {:.2} ms ({how})",
+        "wrote {} ({}x{}); {} frames in {seconds:.2} s; median {:.2} ms/frame wall; {passes}",
         outs.join(", "),
         args.size.0,
         args.size.1,
         args.frames,
-        start.elapsed().as_secs_f64(),
-        median(&frame_ms),
-        gpu_total
+        median(&frames.stats.frame_ms),
     );
-    for (name, ms) in renderer.executor.pass_names().iter().zip(&pass_ms) {
-        if !ms.is_empty() {
-            out!("  {name:<16} {:8.3} ms (median)", median(ms));
-        }
+    for (name, ms) in &medians {
+        out!("  {name:<16} {ms:8.3} ms (median)");
     }
-    if pid.is_some() {
-        out!("  mask threshold (PID): {:.4}", renderer.mask_threshold);
+    if frames.target.is_some() {
+        out!("  mask threshold (PID): {:.4}", session.mask_threshold);
     }
-    if let Some(reuse) = renderer.executor.read_resource(&gpu, REFLECT_REUSE) {
-        let s = ReuseShare::of(&reuse?);
+    if let Some(Ok(reuse)) = session.read_resource(REFLECT_REUSE) {
+        let s = ReuseShare::of(&reuse);
         out!(
             "  reflections: {:.1}% of reflection rays reused from screen space ({} of {} specular pixels, last frame)",
             s.share() * 100.0,
@@ -204,7 +222,6 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
             s.specular
         );
     }
-    let mem = compiled.schedule.memory(args.size);
+    let mem = session.graph.schedule.memory(args.size);
     out!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);
-    Ok(())
 }

@@ -1,16 +1,20 @@
 //! The wgpu context: instance, adapter, device and queue, headless by
-//! default. Also texture readback and timestamp queries.
+//! default. Also texture readback and timestamp queries. Knows nothing of
+//! graphs or scenes (docs/ARCHITECTURE.md, "Layers").
 
-pub mod frame;
 pub mod readback;
-pub mod scene_buffers;
 pub mod timing;
+
+use std::sync::{Arc, Mutex};
 
 use crate::error::UserError;
 
 /// Exit code for "no usable GPU adapter" and other user-fixable problems.
 pub const EXIT_USER_ERROR: i32 = 2;
 
+/// Everything here is a cheap handle (wgpu objects are reference counted),
+/// so a rebuild on another thread takes its own clone.
+#[derive(Clone)]
 pub struct Gpu {
     pub instance: wgpu::Instance,
     pub adapter: wgpu::Adapter,
@@ -19,6 +23,9 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     /// Timestamp queries available (per-pass GPU timings).
     pub timestamps: bool,
+    /// Errors no error scope caught (wgpu's default handler would panic):
+    /// logged once each and kept here for the viewer's overlay.
+    pub uncaptured: Arc<Mutex<Vec<String>>>,
 }
 
 const NO_ADAPTER_HELP: &str = "no GPU adapter found. glint needs Vulkan, Metal or DX12; on a machine \
@@ -49,7 +56,17 @@ impl Gpu {
             })
             .await
             .map_err(|e| UserError::new(format!("the adapter `{}` refused a device: {e}", info.name)))?;
+        let uncaptured = Arc::new(Mutex::new(Vec::new()));
+        let log = Arc::clone(&uncaptured);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            let message = e.to_string();
+            eprintln!("glint: GPU error outside an error scope: {message}");
+            if let Ok(mut l) = log.lock() {
+                l.push(message);
+            }
+        }));
         Ok(Gpu {
+            uncaptured,
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
             instance,
             adapter,
@@ -66,6 +83,31 @@ impl Gpu {
     /// Largest 2D texture side this device takes.
     pub fn max_texture_side(&self) -> u32 {
         self.device.limits().max_texture_dimension_2d
+    }
+
+    /// Counts of live wgpu objects (textures, buffers, pipelines, bind
+    /// groups...), from wgpu's own registry report: how tests see that
+    /// rebuilds release what they replace.
+    pub fn live_objects(&self) -> Option<LiveObjects> {
+        let r = self.instance.generate_report()?;
+        let h = r.hub_report();
+        // wgpu does not re-export the report's types; read fields by name.
+        macro_rules! n {
+            ($f:ident) => {
+                h.$f.num_allocated
+            };
+        }
+        Some(LiveObjects {
+            textures: n!(textures),
+            texture_views: n!(texture_views),
+            buffers: n!(buffers),
+            bind_groups: n!(bind_groups),
+            bind_group_layouts: n!(bind_group_layouts),
+            pipeline_layouts: n!(pipeline_layouts),
+            compute_pipelines: n!(compute_pipelines),
+            shader_modules: n!(shader_modules),
+            query_sets: n!(query_sets),
+        })
     }
 
     /// Waits for all submitted work.
@@ -95,4 +137,32 @@ async fn pick_adapter(instance: &wgpu::Instance) -> Option<wgpu::Adapter> {
         (backend, ty)
     };
     adapters.into_iter().min_by_key(rank)
+}
+
+/// Live wgpu objects by kind (see `Gpu::live_objects`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LiveObjects {
+    pub textures: usize,
+    pub texture_views: usize,
+    pub buffers: usize,
+    pub bind_groups: usize,
+    pub bind_group_layouts: usize,
+    pub pipeline_layouts: usize,
+    pub compute_pipelines: usize,
+    pub shader_modules: usize,
+    pub query_sets: usize,
+}
+
+impl LiveObjects {
+    pub fn total(&self) -> usize {
+        self.textures
+            + self.texture_views
+            + self.buffers
+            + self.bind_groups
+            + self.bind_group_layouts
+            + self.pipeline_layouts
+            + self.compute_pipelines
+            + self.shader_modules
+            + self.query_sets
+    }
 }

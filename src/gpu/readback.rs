@@ -1,7 +1,7 @@
 //! Copies a texture back to the CPU as linear RGBA f32.
 
 use crate::error::UserError;
-use crate::graph::desc::TexFormat;
+use crate::format::TexFormat;
 
 /// An RGBA f32 image, row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]

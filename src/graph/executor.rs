@@ -1,314 +1,320 @@
-//! Records a compiled `Schedule` as wgpu compute dispatches. Everything is
-//! created up front (textures, pipelines, bind groups for both history
-//! parities); a frame only writes the frame uniform and records dispatches.
+//! Records a compiled `Schedule` as wgpu compute dispatches. An executor is
+//! built from a schedule and its pipelines (from the cache) in one go:
+//! textures, params buffers and the bind groups of both history parities;
+//! a frame then only records dispatches. A rebuilt executor takes over the
+//! textures of the one it replaces wherever their descriptors are the same,
+//! so a shader edit keeps what does not depend on it.
+//!
+//! Timing (docs/ARCHITECTURE.md, "Timing"): with `Timing::Gpu` the passes
+//! carry timestamp writes read back frames later, without waiting; with
+//! `Timing::WallPerPass` (profiling on CPU adapters, whose timestamps do
+//! not bracket the work) each pass is submitted alone and waited for.
 
-use std::collections::BTreeMap;
-
-use wgpu::util::DeviceExt;
+use std::sync::Arc;
 
 use crate::error::UserError;
+use crate::format::TexFormat;
 use crate::gpu::readback::{read_texture, ImageF32};
-use crate::gpu::scene_buffers::SceneBuffers;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::Gpu;
-use crate::graph::desc::TexFormat;
+use crate::graph::pipelines::{wgpu_format, CachedPipeline};
 use crate::graph::schedule::*;
-use crate::graph::CompiledGraph;
-use crate::shader::{BindingKind, SampleType, StorageAccess};
 
 /// How a frame is timed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Timing {
     /// Not timed: submit and go on.
     None,
-    /// GPU timestamps around each pass.
+    /// GPU timestamps around each pass, read back a frame or two later.
     Gpu,
-    /// Each pass submitted alone and timed on the CPU clock.
+    /// Each pass submitted alone and timed on the CPU clock (profiling).
     WallPerPass,
 }
 
 impl Timing {
-    /// Timestamps on GPUs; per-pass wall time on CPU adapters (lavapipe's
-    /// timestamps do not bracket the dispatches' work).
-    pub fn for_adapter(gpu: &Gpu) -> Timing {
-        if gpu.info.device_type == wgpu::DeviceType::Cpu || !gpu.timestamps {
+    /// Whether the adapter's timestamps measure the work: on GPUs they do;
+    /// on CPU adapters (lavapipe) they do not bracket the dispatches.
+    pub fn stamps_bracket_work(gpu: &Gpu) -> bool {
+        gpu.timestamps && gpu.info.device_type != wgpu::DeviceType::Cpu
+    }
+
+    /// Per-pass timings without stalling where the adapter allows it:
+    /// timestamps on GPUs, none on CPU adapters unless `profile` asks for
+    /// per-pass wall time (which submits passes one by one).
+    pub fn for_adapter(gpu: &Gpu, profile: bool) -> Timing {
+        if Self::stamps_bracket_work(gpu) {
+            Timing::Gpu
+        } else if profile {
             Timing::WallPerPass
         } else {
-            Timing::Gpu
+            Timing::None
         }
     }
 }
 
+/// Milliseconds per pass of one frame, by pass name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PassTimings {
+    pub frame: u64,
+    pub passes: Vec<(String, f64)>,
+}
+
+impl PassTimings {
+    pub fn total(&self) -> f64 {
+        self.passes.iter().map(|(_, ms)| ms).sum()
+    }
+}
+
 struct PassGpu {
-    pipeline: wgpu::ComputePipeline,
+    pipeline: Arc<CachedPipeline>,
     /// (group index, bind group) for parity 0 and 1.
     bind_groups: [Vec<(u32, wgpu::BindGroup)>; 2],
     workgroups: [u32; 3],
-    _params: Option<wgpu::Buffer>,
+    params: Option<wgpu::Buffer>,
+}
+
+/// A texture of the executor with what decides whether a rebuild may keep it.
+#[derive(Clone)]
+struct Physical {
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+    key: TextureKey,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct TextureKey {
+    label: String,
+    format: TexFormat,
+    size: (u32, u32),
+    usage: wgpu::TextureUsages,
 }
 
 pub struct Executor {
     pub schedule: Schedule,
     pub size: (u32, u32),
-    textures: Vec<wgpu::Texture>,
+    textures: Vec<Physical>,
     passes: Vec<PassGpu>,
     timer: Option<PassTimer>,
     parity: u8,
+    frame: u64,
+    /// Textures taken over from the executor this one replaced.
+    pub textures_kept: usize,
 }
 
-pub fn wgpu_format(f: TexFormat) -> wgpu::TextureFormat {
-    match f {
-        TexFormat::R32Float => wgpu::TextureFormat::R32Float,
-        TexFormat::Rg32Float => wgpu::TextureFormat::Rg32Float,
-        TexFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
-        TexFormat::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
-        TexFormat::R32Uint => wgpu::TextureFormat::R32Uint,
-        TexFormat::Rg32Uint => wgpu::TextureFormat::Rg32Uint,
-        TexFormat::Rgba32Uint => wgpu::TextureFormat::Rgba32Uint,
-        TexFormat::Rgba8Unorm => wgpu::TextureFormat::Rgba8Unorm,
-    }
-}
-
-fn layout_entry(b: &ResolvedBinding) -> wgpu::BindGroupLayoutEntry {
-    let ty = match &b.kind {
-        BindingKind::SampledTexture { sample } => wgpu::BindingType::Texture {
-            sample_type: match sample {
-                SampleType::Float => wgpu::TextureSampleType::Float { filterable: false },
-                SampleType::Uint => wgpu::TextureSampleType::Uint,
-                SampleType::Sint => wgpu::TextureSampleType::Sint,
-            },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        BindingKind::StorageTexture { format, access } => wgpu::BindingType::StorageTexture {
-            access: match access {
-                StorageAccess::Read => wgpu::StorageTextureAccess::ReadOnly,
-                StorageAccess::Write => wgpu::StorageTextureAccess::WriteOnly,
-                StorageAccess::ReadWrite => wgpu::StorageTextureAccess::ReadWrite,
-            },
-            format: wgpu_format(*format),
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-        BindingKind::Uniform { .. } => wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        BindingKind::Storage { read_only } => wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: *read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-    };
-    wgpu::BindGroupLayoutEntry { binding: b.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
-}
-
-/// The override in `shaders/shared/intersect.wgsl` the engine sets from the
-/// scene (unless a graph sets it): whether rays test every primitive
-/// instead of walking the BVH.
-const FLAT_SCENE: &str = "FLAT_SCENE";
+/// What the executor binds for an engine resource.
+pub type EngineBindings<'a> = dyn Fn(EngineResource) -> wgpu::BindingResource<'a> + 'a;
 
 impl Executor {
-    /// Creates textures, pipelines and bind groups. `frame` is the frame
-    /// uniform buffer, `scene` the scene buffers.
+    /// Creates textures (or takes `previous`'s where the descriptor is the
+    /// same), params buffers and bind groups. `pipelines` are the schedule's
+    /// pipelines in pass order; `engine` binds the frame uniform and scene
+    /// arrays. Everything is created inside error scopes.
     pub fn new(
         gpu: &Gpu,
-        graph: &CompiledGraph,
-        frame: &wgpu::Buffer,
-        scene: &SceneBuffers,
+        schedule: &Schedule,
+        pipelines: &[Arc<CachedPipeline>],
+        engine: &EngineBindings<'_>,
         size: (u32, u32),
+        previous: Option<&Executor>,
     ) -> Result<Executor, UserError> {
         let device = &gpu.device;
-        let schedule = graph.schedule.clone();
-        let max = gpu.max_texture_side();
-        let textures: Vec<wgpu::Texture> = schedule
-            .textures
-            .iter()
-            .map(|t| {
-                let (w, h) = t.size.resolve(size);
-                if w > max || h > max {
-                    return Err(UserError::new(format!(
-                        "texture `{}` would be {w}x{h}, beyond this adapter's limit of {max}x{max}; render smaller",
-                        t.label
-                    )));
-                }
-                let mut usage = wgpu::TextureUsages::COPY_SRC;
-                if t.usage.sampled {
-                    usage |= wgpu::TextureUsages::TEXTURE_BINDING;
-                }
-                if t.usage.storage {
-                    usage |= wgpu::TextureUsages::STORAGE_BINDING;
-                }
-                Ok(device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(&t.label),
-                    size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: wgpu_format(t.format),
-                    usage,
-                    view_formats: &[],
-                }))
-            })
-            .collect::<Result<_, _>>()?;
-        let views: Vec<wgpu::TextureView> = textures.iter().map(|t| t.create_view(&Default::default())).collect();
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let invalid = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let built = Self::create(gpu, schedule, pipelines, engine, size, previous);
+        let refused = [pollster::block_on(invalid.pop()), pollster::block_on(oom.pop())];
+        let executor = built?;
+        if let Some(e) = refused.into_iter().flatten().next() {
+            return Err(UserError::new(format!("graph `{}`: {} refused its textures or bind groups: {e}", schedule.name, gpu.describe())));
+        }
+        Ok(executor)
+    }
 
-        let mut passes = Vec::new();
-        for sp in &schedule.passes {
-            let shader = graph
-                .shaders
-                .get(&sp.shader)
-                .ok_or_else(|| UserError::new(format!("shader {} was not loaded", sp.shader)))?;
-            let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(&sp.shader),
-                source: wgpu::ShaderSource::Wgsl(shader.source.text.as_str().into()),
-            });
-            let mut by_group: BTreeMap<u32, Vec<&ResolvedBinding>> = BTreeMap::new();
-            for b in &sp.bindings {
-                by_group.entry(b.group).or_default().push(b);
-            }
-            let max_group = by_group.keys().max().map(|g| g + 1).unwrap_or(0);
-            let layouts: BTreeMap<u32, wgpu::BindGroupLayout> = by_group
-                .iter()
-                .map(|(g, bs)| {
-                    let entries: Vec<_> = bs.iter().map(|b| layout_entry(b)).collect();
-                    (*g, device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&sp.name), entries: &entries }))
-                })
-                .collect();
-            let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = (0..max_group).map(|g| layouts.get(&g)).collect();
-            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(&sp.name),
-                bind_group_layouts: &layout_refs,
-                immediate_size: 0,
-            });
-            let mut constants: Vec<(&str, f64)> = sp.constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-            let declares = |name: &str| shader.info.overrides.iter().any(|o| o.name == name);
-            if declares(FLAT_SCENE) && !constants.iter().any(|(k, _)| *k == FLAT_SCENE) {
-                constants.push((FLAT_SCENE, f64::from(u8::from(scene.is_flat()))));
-            }
-            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(&sp.name),
-                layout: Some(&pipeline_layout),
-                module: &module,
-                entry_point: Some(&sp.entry),
-                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-                cache: None,
-            });
-            let params = sp.params.as_ref().map(|bytes| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&sp.name),
-                    contents: bytes,
-                    usage: wgpu::BufferUsages::UNIFORM,
-                })
-            });
-            let make_groups = |parity: u8| -> Vec<(u32, wgpu::BindGroup)> {
-                by_group
-                    .iter()
-                    .map(|(g, bs)| {
-                        let entries: Vec<wgpu::BindGroupEntry> = bs
-                            .iter()
-                            .map(|b| wgpu::BindGroupEntry {
-                                binding: b.binding,
-                                resource: match &b.target {
-                                    Target::Texture(t) => wgpu::BindingResource::TextureView(&views[t.resolve(parity)]),
-                                    Target::Params => params.as_ref().map(|p| p.as_entire_binding()).unwrap_or_else(|| frame.as_entire_binding()),
-                                    Target::Engine(EngineResource::Frame) => frame.as_entire_binding(),
-                                    Target::Engine(e) => scene.binding(*e).unwrap_or_else(|| frame.as_entire_binding()),
-                                },
-                            })
-                            .collect();
-                        (*g, device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&sp.name), layout: &layouts[g], entries: &entries }))
-                    })
-                    .collect()
-            };
-            let bind_groups = [make_groups(0), make_groups(1)];
-            if let Some(e) = pollster::block_on(scope.pop()) {
+    fn create(
+        gpu: &Gpu,
+        schedule: &Schedule,
+        pipelines: &[Arc<CachedPipeline>],
+        engine: &EngineBindings<'_>,
+        size: (u32, u32),
+        previous: Option<&Executor>,
+    ) -> Result<Executor, UserError> {
+        let device = &gpu.device;
+        if pipelines.len() != schedule.passes.len() {
+            return Err(UserError::new(format!("graph `{}`: {} pipelines for {} passes", schedule.name, pipelines.len(), schedule.passes.len())));
+        }
+        let max = gpu.max_texture_side();
+        let mut spare: Vec<Physical> = previous.map(|p| p.textures.clone()).unwrap_or_default();
+        let mut textures_kept = 0;
+        let mut textures = Vec::new();
+        for t in &schedule.textures {
+            let (w, h) = t.size.resolve(size);
+            if w > max || h > max {
                 return Err(UserError::new(format!(
-                    "pass `{}` ({}): the GPU driver rejected the pipeline: {e}",
-                    sp.name, sp.shader
+                    "texture `{}` would be {w}x{h}, beyond this adapter's limit of {max}x{max}; render smaller",
+                    t.label
                 )));
             }
+            let mut usage = wgpu::TextureUsages::COPY_SRC;
+            if t.usage.sampled {
+                usage |= wgpu::TextureUsages::TEXTURE_BINDING;
+            }
+            if t.usage.storage {
+                usage |= wgpu::TextureUsages::STORAGE_BINDING;
+            }
+            let key = TextureKey { label: t.label.clone(), format: t.format, size: (w, h), usage };
+            if let Some(i) = spare.iter().position(|p| p.key == key) {
+                textures.push(spare.swap_remove(i));
+                textures_kept += 1;
+                continue;
+            }
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(&t.label),
+                size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu_format(t.format),
+                usage,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&Default::default());
+            textures.push(Physical { texture, view, key });
+        }
+
+        let mut passes = Vec::new();
+        for (sp, pipeline) in schedule.passes.iter().zip(pipelines) {
+            let params = sp.params.as_ref().map(|p| {
+                let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&sp.name),
+                    size: (p.bytes.len() as u64).max(16).next_multiple_of(16),
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                gpu.queue.write_buffer(&buffer, 0, &p.bytes);
+                buffer
+            });
+            let make_groups = |parity: u8| -> Result<Vec<(u32, wgpu::BindGroup)>, UserError> {
+                let mut groups = Vec::new();
+                for (g, layout) in &pipeline.layouts {
+                    let mut entries = Vec::new();
+                    for b in sp.bindings.iter().filter(|b| b.group == *g) {
+                        let resource = match &b.target {
+                            Target::Texture(t) => wgpu::BindingResource::TextureView(&textures[t.resolve(parity)].view),
+                            Target::Params => match &params {
+                                Some(p) => p.as_entire_binding(),
+                                None => return Err(UserError::new(format!("pass `{}`: `params` has no layout", sp.name))),
+                            },
+                            Target::Engine(e) => engine(e.to_owned()),
+                        };
+                        entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
+                    }
+                    groups.push((*g, device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(&sp.name), layout, entries: &entries })));
+                }
+                Ok(groups)
+            };
+            let bind_groups = [make_groups(0)?, make_groups(1)?];
             let (w, h) = sp.dispatch.resolve(size);
             let wg = sp.workgroup_size;
             passes.push(PassGpu {
-                pipeline,
+                pipeline: Arc::clone(pipeline),
                 bind_groups,
                 workgroups: [w.div_ceil(wg[0].max(1)), h.div_ceil(wg[1].max(1)), 1],
-                _params: params,
+                params,
             });
         }
         let timer = gpu.timestamps.then(|| PassTimer::new(device, &gpu.queue, passes.len()));
-        Ok(Executor { schedule, size, textures, passes, timer, parity: 0 })
+        // Keep the history parity of the executor replaced when the ping-pong
+        // layout is the same, so kept history textures stay in step.
+        let parity = previous.filter(|p| p.schedule.flips_parity == schedule.flips_parity).map_or(0, |p| p.parity);
+        Ok(Executor { schedule: schedule.clone(), size, textures, passes, timer, parity, frame: 0, textures_kept })
     }
 
-    /// Records one frame's dispatches.
-    pub fn encode(&self, enc: &mut wgpu::CommandEncoder) {
-        for (i, (p, sp)) in self.passes.iter().zip(&self.schedule.passes).enumerate() {
-            self.encode_pass(enc, p, sp, self.timer.as_ref().map(|t| t.writes(i)));
-        }
-        if let Some(t) = &self.timer {
-            t.resolve(enc);
+    /// Writes pass `pass`'s packed params (after `PassParams::set`).
+    pub fn write_params(&self, queue: &wgpu::Queue, pass: usize, bytes: &[u8]) {
+        if let Some(Some(buffer)) = self.passes.get(pass).map(|p| p.params.as_ref()) {
+            queue.write_buffer(buffer, 0, bytes);
         }
     }
 
-    fn encode_pass(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        p: &PassGpu,
-        sp: &ScheduledPass,
-        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) {
+    fn encode_pass(&self, enc: &mut wgpu::CommandEncoder, i: usize, timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>) {
+        let (p, sp) = (&self.passes[i], &self.schedule.passes[i]);
         let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes });
-        cp.set_pipeline(&p.pipeline);
+        cp.set_pipeline(&p.pipeline.pipeline);
         for (g, bg) in &p.bind_groups[usize::from(self.parity)] {
             cp.set_bind_group(*g, bg, &[]);
         }
         cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
     }
 
-    /// Records and submits one frame. With `Timing::Gpu`, returns per-pass
-    /// GPU milliseconds from timestamps (when the adapter has them); with
-    /// `Timing::WallPerPass`, submits each pass alone and times it on the
-    /// CPU clock (for CPU adapters, whose timestamps do not bracket the
-    /// work). Both wait for the frame.
-    pub fn run_frame(&mut self, gpu: &Gpu, timing: Timing) -> Result<Option<Vec<f64>>, UserError> {
+    /// Records and submits one frame. Returns the per-pass timings that are
+    /// ready: with `Timing::WallPerPass` this frame's (each pass submitted
+    /// alone and waited for); with `Timing::Gpu` those of earlier frames
+    /// whose timestamps have arrived (possibly none), never waiting.
+    pub fn run_frame(&mut self, gpu: &Gpu, timing: Timing) -> Vec<PassTimings> {
+        self.frame += 1;
+        let mut ready = Vec::new();
         if timing == Timing::WallPerPass {
-            let mut ms = Vec::with_capacity(self.passes.len());
-            for (p, sp) in self.passes.iter().zip(&self.schedule.passes) {
+            let mut passes = Vec::with_capacity(self.passes.len());
+            for i in 0..self.passes.len() {
                 let start = std::time::Instant::now();
-                let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&sp.name) });
-                self.encode_pass(&mut enc, p, sp, None);
+                let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&self.schedule.passes[i].name) });
+                self.encode_pass(&mut enc, i, None);
                 gpu.queue.submit([enc.finish()]);
                 gpu.wait();
-                ms.push(start.elapsed().as_secs_f64() * 1e3);
+                passes.push((self.schedule.passes[i].name.clone(), start.elapsed().as_secs_f64() * 1e3));
             }
-            self.end_frame();
-            return Ok(Some(ms));
+            ready.push(PassTimings { frame: self.frame, passes });
+        } else {
+            let timed = timing == Timing::Gpu && self.timer.as_mut().is_some_and(|t| t.begin_frame());
+            let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+            for i in 0..self.passes.len() {
+                let writes = if timed { self.timer.as_ref().and_then(|t| t.writes(i)) } else { None };
+                self.encode_pass(&mut enc, i, writes);
+            }
+            if timed {
+                if let Some(t) = &mut self.timer {
+                    t.resolve(&mut enc, self.frame);
+                }
+            }
+            gpu.queue.submit([enc.finish()]);
+            if timed {
+                if let Some(t) = &mut self.timer {
+                    t.after_submit();
+                }
+            }
+            ready = self.collect_timings(gpu, false);
         }
-        let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        self.encode(&mut enc);
-        gpu.queue.submit([enc.finish()]);
-        let ms = match (&self.timer, timing) {
-            (Some(t), Timing::Gpu) => Some(t.read_ms(&gpu.device)?),
-            _ => None,
-        };
-        self.end_frame();
-        Ok(ms)
-    }
-
-    /// Flips the history parity after a frame's work was recorded.
-    pub fn end_frame(&mut self) {
         if self.schedule.flips_parity {
             self.parity ^= 1;
         }
+        ready
+    }
+
+    /// GPU timings that have arrived; with `wait`, first waits for every
+    /// frame in flight (the end of a run).
+    pub fn collect_timings(&mut self, gpu: &Gpu, wait: bool) -> Vec<PassTimings> {
+        let Some(t) = &mut self.timer else { return Vec::new() };
+        if wait && t.in_flight() {
+            gpu.wait();
+        } else {
+            let _ = gpu.device.poll(wgpu::PollType::Poll);
+        }
+        t.collect()
+            .into_iter()
+            .map(|s| PassTimings {
+                frame: s.frame,
+                passes: self.schedule.passes.iter().map(|p| p.name.clone()).zip(s.ms).collect(),
+            })
+            .collect()
+    }
+
+    /// The parity the last frame used (`run_frame` already flipped it).
+    fn last_parity(&self) -> u8 {
+        if self.schedule.flips_parity { self.parity ^ 1 } else { self.parity }
     }
 
     /// The texture holding the output of the last frame.
     pub fn output_texture(&self) -> &wgpu::Texture {
-        // end_frame already flipped: the last frame used the other parity.
-        let last = if self.schedule.flips_parity { self.parity ^ 1 } else { self.parity };
-        &self.textures[self.schedule.output.resolve(last)]
+        &self.textures[self.schedule.output.resolve(self.last_parity())].texture
     }
 
     pub fn read_output(&self, gpu: &Gpu) -> Result<ImageF32, UserError> {
@@ -321,11 +327,18 @@ impl Executor {
         if !self.schedule.kept.iter().any(|r| r == resource) {
             return None;
         }
+        let (texture, format) = self.resource_texture(resource)?;
+        Some(read_texture(&gpu.device, &gpu.queue, texture, format))
+    }
+
+    /// The texture and format of a resource's final version after the last
+    /// frame (for viewers: pooled transients may since hold another
+    /// resource; kept and history ones do not).
+    pub fn resource_texture(&self, resource: &str) -> Option<(&wgpu::Texture, TexFormat)> {
         let v = self.schedule.versions.iter().filter(|v| v.resource == resource).max_by_key(|v| v.version)?;
-        let last = if self.schedule.flips_parity { self.parity ^ 1 } else { self.parity };
-        let index = v.texture.resolve(last);
+        let index = v.texture.resolve(self.last_parity());
         let format = self.schedule.textures.get(index)?.format;
-        Some(read_texture(&gpu.device, &gpu.queue, &self.textures[index], format))
+        Some((&self.textures.get(index)?.texture, format))
     }
 
     pub fn pass_names(&self) -> Vec<&str> {

@@ -1,10 +1,13 @@
 //! The frame graph: RON schema (`desc`), the pure `compile` step, the
-//! compiled `Schedule`, printing (`report`) and the wgpu `executor`.
+//! compiled `Schedule`, the `params` packer, printing (`report`), the
+//! pipeline cache and the wgpu `executor` (docs/ARCHITECTURE.md).
 
 pub mod compile;
 pub mod desc;
 pub mod edit;
 pub mod executor;
+pub mod params;
+pub mod pipelines;
 pub mod report;
 pub mod schedule;
 #[cfg(test)]
@@ -81,6 +84,21 @@ pub fn load_and_compile(
         .map_err(|e| UserError::in_file(path, format!("cannot read the graph file: {e}")))?;
     let desc = FrameGraph::parse(&text, path)?;
     let shaders = load_shaders(&desc, shader_dir)?;
-    let schedule = compile(&desc, &reflections(&shaders), features, options).map_err(|e| locate(&e, path, &text))?;
+    compile_loaded(path, desc, shaders, features, options)
+}
+
+/// Compiles an already parsed graph with its loaded shaders; errors are
+/// located in the graph file at `path`.
+pub fn compile_loaded(
+    path: &Path,
+    desc: FrameGraph,
+    shaders: BTreeMap<String, Shader>,
+    features: &SceneFeatures,
+    options: &CompileOptions,
+) -> Result<CompiledGraph, UserError> {
+    let schedule = compile(&desc, &reflections(&shaders), features, options).map_err(|e| {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        locate(&e, path, &text)
+    })?;
     Ok(CompiledGraph { path: path.to_path_buf(), desc, shaders, schedule })
 }

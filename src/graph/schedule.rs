@@ -1,7 +1,8 @@
 //! The output of `compile`: everything the executor needs, with every name
 //! already resolved to an index.
 
-use crate::graph::desc::{SizeDesc, TexFormat};
+use crate::format::TexFormat;
+use crate::graph::desc::SizeDesc;
 use crate::scene::{Feature, SceneFeatures};
 use crate::shader::BindingKind;
 
@@ -53,7 +54,7 @@ impl EngineResource {
     }
 
     /// How shaders declare it. The per-primitive and per-node arrays are
-    /// textures (`src/gpu/scene_buffers.rs` says why).
+    /// textures (`src/scene/buffers.rs` says why).
     pub fn kind(self) -> EngineKind {
         match self {
             EngineResource::Frame => EngineKind::Uniform,
@@ -110,7 +111,7 @@ impl TexRef {
 pub enum Target {
     Texture(TexRef),
     Engine(EngineResource),
-    /// The pass's own `params` uniform (bytes in `ScheduledPass::params`).
+    /// The pass's own `params` uniform (see `ScheduledPass::params`).
     Params,
 }
 
@@ -129,8 +130,8 @@ pub struct ScheduledPass {
     pub shader: String,
     pub entry: String,
     pub workgroup_size: [u32; 3],
-    /// Packed `params` uniform, if the shader has one.
-    pub params: Option<Vec<u8>>,
+    /// The `params` uniform (layout, values, packed bytes), if the shader has one.
+    pub params: Option<crate::graph::params::PassParams>,
     /// `override` constants for the pipeline.
     pub constants: Vec<(String, f64)>,
     pub bindings: Vec<ResolvedBinding>,

@@ -531,10 +531,10 @@ fn params_packed_at_their_offsets() {
     for (i, x) in [0.25f32, 0.5, 1.0].into_iter().enumerate() {
         want[16 + 4 * i..20 + 4 * i].copy_from_slice(&x.to_le_bytes());
     }
-    assert_eq!(s.passes[0].params.as_deref(), Some(&want[..]));
+    assert_eq!(s.passes[0].params.as_ref().map(|p| &p.bytes[..]), Some(&want[..]));
     // An integer is fine for an f32 member; a RON tuple for a vector.
     let s = ok_with(&with_params("gain: 2, count: 0, bias: 0, tint: (1.0, 1.0, 1.0)"), &[params_shader()]);
-    let p = s.passes[0].params.as_ref().unwrap();
+    let p = &s.passes[0].params.as_ref().unwrap().bytes;
     assert_eq!((&p[0..4], &p[16..20]), (&2f32.to_le_bytes()[..], &1f32.to_le_bytes()[..]));
 }
 
@@ -570,7 +570,7 @@ fn engine_resources_and_params_bound_by_name() {
             ("dst", 4, &Target::Texture(TexRef::Fixed(0))),
         ]
     );
-    assert_eq!(s.passes[0].params, Some(4u32.to_le_bytes().into_iter().chain([0; 12]).collect()));
+    assert_eq!(s.passes[0].params.as_ref().map(|p| p.bytes.clone()), Some(4u32.to_le_bytes().into_iter().chain([0; 12]).collect()));
 }
 
 // ---------------------------------------------------------------------------

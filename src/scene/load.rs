@@ -218,6 +218,11 @@ impl<'a, 'l> Builder<'a, 'l> {
             background,
             features,
             path: loc.path.to_path_buf(),
+            mesh_files: {
+                let mut files: Vec<PathBuf> = self.obj_cache.iter().map(|(p, _, _)| p.clone()).collect();
+                files.dedup();
+                files
+            },
             meshes: self.meshes,
             materials: self.materials,
         })

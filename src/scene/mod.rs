@@ -11,6 +11,7 @@
 //! with a `material:` override), a default white (0.8) the first time a face
 //! has no material, then one emissive material per sphere light.
 
+pub mod buffers;
 pub mod features;
 pub mod gpu_types;
 mod load;

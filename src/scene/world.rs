@@ -27,6 +27,8 @@ pub struct Scene {
     pub features: SceneFeatures,
     /// The scene file (used in messages and to resolve mesh paths).
     pub path: PathBuf,
+    /// The OBJ files the scene loaded (hot reload watches them).
+    pub mesh_files: Vec<PathBuf>,
     /// Local-space triangles, indexed by `MeshShape::mesh`.
     pub(super) meshes: Vec<MeshData>,
     /// Every material, indexed by `MaterialId` and the triangles' `material`.

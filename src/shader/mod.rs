@@ -9,7 +9,7 @@ use std::path::Path;
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 
 use crate::error::UserError;
-use crate::graph::desc::TexFormat;
+use crate::format::TexFormat;
 pub use reflect::*;
 pub use source::ShaderSource;
 

@@ -4,7 +4,7 @@
 //! so it can be unit-tested without naga or a GPU.
 
 use crate::error::Location;
-use crate::graph::desc::TexFormat;
+use crate::format::TexFormat;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShaderInfo {

@@ -7,8 +7,8 @@ use std::sync::OnceLock;
 use glint::gpu::readback::ImageF32;
 use glint::gpu::Gpu;
 use glint::graph::{self, CompileOptions};
-use glint::render::Renderer;
 use glint::scene::Scene;
+use glint::session::{Session, SessionOptions};
 
 pub fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -60,13 +60,19 @@ pub fn compile(scene: &Scene, graph_path: &Path, options: &CompileOptions) -> gr
     graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.features, options).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// A session for an already compiled graph (shaders from the repo).
+pub fn session(gpu: &Gpu, scene: Scene, compiled: &graph::CompiledGraph, size: (u32, u32), seed: u32) -> Session {
+    let options = SessionOptions { seed, ..SessionOptions::new(size) };
+    Session::with_graph(gpu, scene, compiled.clone(), repo().join("shaders"), options).unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// Renders `frames` frames of an already compiled graph; its output.
 pub fn render_compiled(gpu: &Gpu, scene: Scene, compiled: &graph::CompiledGraph, size: (u32, u32), frames: u32) -> ImageF32 {
-    let mut r = Renderer::new(gpu, scene, compiled, size, 1).unwrap_or_else(|e| panic!("{e}"));
+    let mut s = session(gpu, scene, compiled, size, 1);
     for _ in 0..frames {
-        r.frame(gpu, 0.0, glint::graph::executor::Timing::None).unwrap_or_else(|e| panic!("{e}"));
+        s.frame(0.0);
     }
-    r.read_output(gpu).unwrap_or_else(|e| panic!("{e}"))
+    s.read_output().unwrap_or_else(|e| panic!("{e}"))
 }
 
 pub fn load_scene(name: &str) -> Scene {

@@ -23,7 +23,6 @@
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
-use crate::graph::EngineResource;
 use crate::scene::SceneData;
 
 /// Scenes with at most this many primitives (spheres and triangles) are
@@ -52,6 +51,11 @@ pub struct SceneTexture {
 }
 
 impl SceneTexture {
+    /// The view shaders bind (`texture_storage_2d<rgba32uint, read>`).
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.view
+    }
+
     fn new<T: Pod>(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, items: &[T]) -> SceneTexture {
         debug_assert_eq!(std::mem::size_of::<T>() % TEXEL_BYTES, 0);
         Self::from_bytes(device, queue, label, bytemuck::cast_slice(items))
@@ -234,21 +238,6 @@ impl SceneBuffers {
     /// `FLAT_SCENE` override the executor gives the shaders).
     pub fn is_flat(&self) -> bool {
         self.data.spheres.len() + self.data.triangles.len() <= FLAT_LIMIT
-    }
-
-    /// What an engine resource binds to (None for the frame uniform, which
-    /// the renderer owns).
-    pub fn binding(&self, e: EngineResource) -> Option<wgpu::BindingResource<'_>> {
-        match e {
-            EngineResource::Frame => None,
-            EngineResource::Spheres => Some(wgpu::BindingResource::TextureView(&self.spheres.view)),
-            EngineResource::Geometry => Some(wgpu::BindingResource::TextureView(&self.geometry.view)),
-            EngineResource::Normals => Some(wgpu::BindingResource::TextureView(&self.normals.view)),
-            EngineResource::Meshes => Some(self.meshes.as_entire_binding()),
-            EngineResource::Materials => Some(self.materials.as_entire_binding()),
-            EngineResource::Lights => Some(self.lights.as_entire_binding()),
-            EngineResource::Instances => Some(wgpu::BindingResource::TextureView(&self.instances.view)),
-        }
     }
 }
 

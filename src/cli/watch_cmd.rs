@@ -1,0 +1,69 @@
+//! `glint render --watch`: the headless hot-reload loop. After the first
+//! render it waits for saves; each batch of changed files becomes rebuilds
+//! (see `reload::classify`), each built aside and swapped in only when it
+//! succeeded, and the outputs are rendered again. One line per event:
+//! `reloaded <file>: <n> passes rebuilt in <ms> ms`, or
+//! `error: <file>:<line>:<col>: <message> (keeping the last good <what>)`.
+//! Ctrl-C (SIGINT) ends it with exit code 0.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use super::render_cmd::{render_frames, RenderArgs};
+use crate::error::UserError;
+use crate::reload::{classify, watch_dirs, Watcher};
+use crate::session::frame_loop::{FrameLoop, FrameStats};
+use crate::session::rebuild::RebuildKind;
+use crate::session::Session;
+
+/// The file a rebuild is named by in its event line.
+fn subject(kind: &RebuildKind, changed: &[std::path::PathBuf]) -> String {
+    match kind {
+        RebuildKind::Shaders(files) => files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(", "),
+        RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) => p.display().to_string(),
+        RebuildKind::Scene(p) => {
+            let meshes: Vec<String> = changed.iter().filter(|c| c.as_path() != p.as_path()).map(|c| c.display().to_string()).collect();
+            if changed.iter().any(|c| c == p) || meshes.is_empty() { p.display().to_string() } else { meshes.join(", ") }
+        }
+        RebuildKind::Edits => "graph edits".to_string(),
+    }
+}
+
+pub fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop, _graph_path: &Path) -> Result<(), UserError> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&stop);
+    ctrlc::set_handler(move || flag.store(true, Ordering::Release))
+        .map_err(|e| UserError::new(format!("cannot handle Ctrl-C: {e}")))?;
+    let dirs = watch_dirs(&session.sources());
+    let mut watcher = Watcher::new(&dirs)?;
+    let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+    out!("watching {} (Ctrl-C ends)", shown.join(", "));
+    while !stop.load(Ordering::Acquire) {
+        let (changed, errors) = watcher.changed(Duration::from_millis(200));
+        for e in errors {
+            eprintln!("glint: file watcher: {e}");
+        }
+        if changed.is_empty() {
+            continue;
+        }
+        for kind in classify(&session.sources(), &changed) {
+            let what = kind.what();
+            let file = subject(&kind, &changed);
+            let start = Instant::now();
+            let result = session.job(kind).run().and_then(|r| session.commit(r));
+            match result {
+                Ok(report) => {
+                    frames.time = args.time;
+                    frames.stats = FrameStats::default();
+                    render_frames(args, &mut session, &mut frames, true)?;
+                    out!("reloaded {file}: {} passes rebuilt in {:.0} ms", report.rebuilt.len(), start.elapsed().as_secs_f64() * 1e3);
+                }
+                Err(e) => out!("error: {e} (keeping the last good {what})"),
+            }
+        }
+    }
+    out!("stopped watching");
+    Ok(())
+}

@@ -1,0 +1,187 @@
+//! `compile`: a pure function of (graph, shader reflections, scene features)
+//! to a `Schedule`, in named steps, one module each (docs/ARCHITECTURE.md,
+//! "The frame graph"):
+//! 1. `validate`: names, formats, access, params and constants;
+//! 2. and 3. `cull`: passes whose `requires` the scene lacks, then passes
+//!    that reach neither the output nor a history write (`versions` assigns
+//!    the resource versions between the two);
+//! 4. `order`: topological, stable by file order, cycles named;
+//! 5. `lifetimes`: first and last use of each physical group;
+//! 6. `textures`: pooling transients by descriptor;
+//! 7. `emit`: the `Schedule`.
+
+mod cull;
+mod emit;
+mod lifetimes;
+mod order;
+mod textures;
+mod validate;
+mod versions;
+
+use std::collections::BTreeMap;
+
+use crate::error::Location;
+use crate::graph::desc::{FrameGraph, PassDesc};
+use crate::graph::edit::GraphEdits;
+use crate::graph::params::PassParams;
+use crate::graph::schedule::*;
+use crate::scene::SceneFeatures;
+use crate::shader::{BindingInfo, EntryInfo, ShaderInfo};
+use cull::{cull_by_requires, cull_unreachable};
+use emit::emit_schedule;
+use lifetimes::compute_lifetimes;
+use order::order_passes;
+use textures::assign_textures;
+use validate::validate;
+use versions::{assign_groups, assign_versions, check_output_written, writers_of};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    DuplicatePass,
+    UnknownShader,
+    UnknownEntry,
+    UnknownBinding,
+    UnknownResource,
+    FormatMismatch,
+    WrongAccess,
+    DuplicateWriter,
+    UnwrittenRead,
+    UnknownOutput,
+    Cycle,
+    MissingParam,
+    UnknownParam,
+    BadParam,
+    MissingConstant,
+    UnknownConstant,
+    BadEdit,
+}
+
+/// A graph compile error. `pass` and `shader_location` say where; the caller
+/// adds the graph file's line (see `graph::locate`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompileError {
+    pub kind: ErrorKind,
+    pub pass: Option<String>,
+    pub shader_location: Option<Location>,
+    pub message: String,
+}
+
+impl std::fmt::Display for CompileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if let Some(p) = &self.pass {
+            write!(f, "pass `{p}`: ")?;
+        }
+        write!(f, "{}", self.message)?;
+        if let Some(loc) = &self.shader_location {
+            write!(f, " (declared at {loc})")?;
+        }
+        Ok(())
+    }
+}
+
+fn err(kind: ErrorKind, pass: Option<&str>, message: impl Into<String>) -> CompileError {
+    CompileError { kind, pass: pass.map(str::to_string), shader_location: None, message: message.into() }
+}
+
+fn err_at(kind: ErrorKind, pass: &str, b: &BindingInfo, message: impl Into<String>) -> CompileError {
+    CompileError {
+        kind,
+        pass: Some(pass.to_string()),
+        shader_location: Some(b.location.clone()),
+        message: message.into(),
+    }
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct CompileOptions {
+    /// Render this resource instead of the graph's `output` (debug views,
+    /// per-pass golden images).
+    pub output: Option<String>,
+    /// `--set`, `--skip`, `--stop-after` (see graph::edit).
+    pub edits: GraphEdits,
+    /// Resources whose final version is kept (not pooled) until the frame
+    /// ends, so the engine can read it back for stats. Absent or unwritten
+    /// ones are ignored.
+    pub keep: Vec<String>,
+}
+
+/// What one binding of a validated pass refers to.
+#[derive(Debug, Clone, PartialEq)]
+enum Bound {
+    Read(String),
+    Write { resource: String, in_place: bool },
+    Engine(EngineResource),
+    Params,
+}
+
+#[derive(Debug, Clone)]
+struct PassPlan<'a> {
+    desc: &'a PassDesc,
+    entry: &'a EntryInfo,
+    bindings: Vec<(&'a BindingInfo, Bound)>,
+    params: Option<PassParams>,
+    constants: Vec<(String, f64)>,
+}
+
+impl PassPlan<'_> {
+    fn reads(&self) -> impl Iterator<Item = &str> {
+        self.bindings.iter().filter_map(|(_, b)| match b {
+            Bound::Read(r) => Some(r.as_str()),
+            Bound::Write { resource, in_place: true } => Some(resource.as_str()),
+            _ => None,
+        })
+    }
+    fn writes(&self) -> impl Iterator<Item = (&str, bool)> {
+        self.bindings.iter().filter_map(|(_, b)| match b {
+            Bound::Write { resource, in_place } => Some((resource.as_str(), *in_place)),
+            _ => None,
+        })
+    }
+}
+
+/// Compiles a graph. `shaders` maps shader file names to their reflection.
+pub fn compile(
+    desc: &FrameGraph,
+    shaders: &BTreeMap<String, ShaderInfo>,
+    features: &SceneFeatures,
+    options: &CompileOptions,
+) -> Result<Schedule, CompileError> {
+    let edited;
+    let desc = if options.edits.is_empty() {
+        desc
+    } else {
+        edited = options.edits.apply(desc).map_err(|m| err(ErrorKind::BadEdit, None, m))?;
+        &edited
+    };
+    let plans = validate(desc, shaders)?;
+    let output = options.output.clone().unwrap_or_else(|| desc.output.clone());
+    if !desc.resources.contains_key(&output) {
+        return Err(err(
+            ErrorKind::UnknownOutput,
+            None,
+            format!("output `{output}` is not a declared resource; declared: {}", names(desc.resources.keys())),
+        ));
+    }
+    let writers = writers_of(&plans);
+    let (plans, mut culled) = cull_by_requires(plans, features);
+    let mut versions = assign_versions(desc, &plans, &writers, &culled)?;
+    check_output_written(&writers, &versions, &culled, &output)?;
+    let (plans, unreachable) = cull_unreachable(desc, plans, &mut versions, &output);
+    culled.extend(unreachable);
+    culled.sort_by_key(|c| desc.passes.iter().position(|p| p.name == c.name));
+    let groups = assign_groups(desc, &mut versions);
+    let order = order_passes(&plans, &versions, &groups)?;
+    let mut kept: Vec<&str> = vec![output.as_str()];
+    kept.extend(options.keep.iter().map(String::as_str).filter(|r| versions.latest(r).is_some()));
+    let lifetimes = compute_lifetimes(&order, &mut versions, &groups, &kept);
+    let (textures, group_refs) = assign_textures(desc, &versions, &groups, &lifetimes);
+    let mut schedule = emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output);
+    schedule.kept = kept.iter().map(|r| r.to_string()).collect();
+    Ok(schedule)
+}
+
+fn names<'a>(it: impl Iterator<Item = &'a String>) -> String {
+    let v: Vec<&str> = it.map(String::as_str).collect();
+    if v.is_empty() { "(none)".into() } else { v.join(", ") }
+}
+

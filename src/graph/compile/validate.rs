@@ -1,0 +1,227 @@
+//! Step 1: names, formats, access, params and constants.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::{err, err_at, names, Bound, CompileError, ErrorKind, PassPlan};
+use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, TextureDesc};
+use crate::graph::params::{ParamError, PassParams};
+use crate::graph::schedule::{EngineKind, EngineResource};
+use crate::format::TexFormat;
+use crate::shader::{BindingInfo, BindingKind, EntryInfo, SampleType, ScalarType, ShaderInfo, StorageAccess};
+
+pub(super) fn validate<'a>(
+    desc: &'a FrameGraph,
+    shaders: &'a BTreeMap<String, ShaderInfo>,
+) -> Result<Vec<PassPlan<'a>>, CompileError> {
+    let mut seen = BTreeSet::new();
+    let mut plans = Vec::new();
+    for pass in &desc.passes {
+        let name = pass.name.as_str();
+        if !seen.insert(name) {
+            return Err(err(ErrorKind::DuplicatePass, Some(name), "two passes have this name; names must be unique"));
+        }
+        let shader = shaders.get(&pass.shader).ok_or_else(|| {
+            err(ErrorKind::UnknownShader, Some(name), format!("shader `{}` not found in shaders/", pass.shader))
+        })?;
+        let entry = pick_entry(pass, shader)?;
+        for var in pass.bind.keys() {
+            if !entry.bindings.iter().any(|b| &b.name == var) {
+                return Err(err(
+                    ErrorKind::UnknownBinding,
+                    Some(name),
+                    format!(
+                        "`bind` maps `{var}`, but entry point `{}` of {} uses no binding of that name; it uses: {}",
+                        entry.name,
+                        shader.name,
+                        names(entry.bindings.iter().map(|b| &b.name))
+                    ),
+                ));
+            }
+        }
+        let mut bindings = Vec::new();
+        for b in &entry.bindings {
+            let target = pass.bind.get(&b.name).unwrap_or(&b.name);
+            bindings.push((b, bind_one(desc, name, b, target)?));
+        }
+        check_pass_writes(name, &bindings)?;
+        let params = pack_params(pass, shader)?;
+        let constants = check_constants(pass, shader)?;
+        plans.push(PassPlan { desc: pass, entry, bindings, params, constants });
+    }
+    Ok(plans)
+}
+
+fn pick_entry<'a>(pass: &PassDesc, shader: &'a ShaderInfo) -> Result<&'a EntryInfo, CompileError> {
+    let found = match &pass.entry {
+        Some(e) => shader.entry_points.iter().find(|ep| &ep.name == e),
+        None if shader.entry_points.len() == 1 => shader.entry_points.first(),
+        None => None,
+    };
+    found.ok_or_else(|| {
+        err(
+            ErrorKind::UnknownEntry,
+            Some(&pass.name),
+            format!(
+                "{} has compute entry points [{}]; {}",
+                shader.name,
+                names(shader.entry_points.iter().map(|e| &e.name)),
+                match &pass.entry {
+                    Some(e) => format!("`{e}` is not one of them"),
+                    None => "name one with `entry:`".to_string(),
+                }
+            ),
+        )
+    })
+}
+
+fn bind_one(desc: &FrameGraph, pass: &str, b: &BindingInfo, target: &str) -> Result<Bound, CompileError> {
+    if b.name == "params" && target == "params" {
+        return match b.kind {
+            BindingKind::Uniform { .. } => Ok(Bound::Params),
+            _ => Err(err_at(ErrorKind::WrongAccess, pass, b, "`params` must be a var<uniform> struct")),
+        };
+    }
+    if let Some(e) = EngineResource::from_name(target) {
+        let ok = match &b.kind {
+            BindingKind::Uniform { .. } => e.kind() == EngineKind::Uniform,
+            BindingKind::Storage { read_only } => e.kind() == EngineKind::Storage && *read_only,
+            BindingKind::StorageTexture { format, access } => e.kind() == EngineKind::Texture && *format == TexFormat::Rgba32Uint && *access == StorageAccess::Read,
+            _ => false,
+        };
+        if !ok {
+            let want = e.kind().wgsl();
+            return Err(err_at(
+                ErrorKind::WrongAccess,
+                pass,
+                b,
+                format!("`{}` binds engine resource `{target}`, which is a {want}, but the shader declares {}", b.name, b.kind.describe()),
+            ));
+        }
+        return Ok(Bound::Engine(e));
+    }
+    let Some(ResourceDesc::Texture(TextureDesc { format, .. })) = desc.resources.get(target) else {
+        return Err(err_at(
+            ErrorKind::UnknownResource,
+            pass,
+            b,
+            format!(
+                "binding `{}` refers to `{target}`, which is neither a graph resource ({}) nor an engine resource ({}); declare it under `resources` or map it with `bind`",
+                b.name,
+                names(desc.resources.keys()),
+                EngineResource::ALL.map(|e| e.name()).join(", ")
+            ),
+        ));
+    };
+    match &b.kind {
+        BindingKind::SampledTexture { sample } => {
+            let want = if format.is_uint() { SampleType::Uint } else { SampleType::Float };
+            if *sample != want {
+                return Err(err_at(
+                    ErrorKind::FormatMismatch,
+                    pass,
+                    b,
+                    format!("`{}` is {}, but `{target}` is {:?}", b.name, b.kind.describe(), format),
+                ));
+            }
+            Ok(Bound::Read(target.to_string()))
+        }
+        BindingKind::StorageTexture { format: f, access } => {
+            if f != format {
+                return Err(err_at(
+                    ErrorKind::FormatMismatch,
+                    pass,
+                    b,
+                    format!("`{}` is {}, but resource `{target}` is declared {:?}", b.name, b.kind.describe(), format),
+                ));
+            }
+            match access {
+                StorageAccess::Read => Ok(Bound::Read(target.to_string())),
+                StorageAccess::Write => Ok(Bound::Write { resource: target.to_string(), in_place: false }),
+                StorageAccess::ReadWrite => Ok(Bound::Write { resource: target.to_string(), in_place: true }),
+            }
+        }
+        other => Err(err_at(
+            ErrorKind::WrongAccess,
+            pass,
+            b,
+            format!("`{}` is declared {}, but `{target}` is a texture; use texture_2d or texture_storage_2d", b.name, other.describe()),
+        )),
+    }
+}
+
+fn check_pass_writes(pass: &str, bindings: &[(&BindingInfo, Bound)]) -> Result<(), CompileError> {
+    for (i, (b, bound)) in bindings.iter().enumerate() {
+        let Bound::Write { resource, in_place } = bound else { continue };
+        for (other, ob) in &bindings[i + 1..] {
+            let clash = match ob {
+                Bound::Write { resource: r, .. } => r == resource,
+                Bound::Read(r) => r == resource && *in_place,
+                _ => false,
+            };
+            if clash {
+                return Err(err_at(
+                    ErrorKind::WrongAccess,
+                    pass,
+                    other,
+                    format!("`{}` and `{}` both bind `{resource}`, which one dispatch cannot both write and read or write twice", b.name, other.name),
+                ));
+            }
+        }
+        for (other, ob) in &bindings[..i] {
+            if *in_place && matches!(ob, Bound::Read(r) if r == resource) {
+                return Err(err_at(
+                    ErrorKind::WrongAccess,
+                    pass,
+                    other,
+                    format!("`{}` reads `{resource}` while `{}` modifies it in place; read it through the read_write binding", other.name, b.name),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn pack_params(pass: &PassDesc, shader: &ShaderInfo) -> Result<Option<PassParams>, CompileError> {
+    let name = Some(pass.name.as_str());
+    let Some(layout) = &shader.params else {
+        if let Some(k) = pass.params.keys().next() {
+            return Err(err(ErrorKind::UnknownParam, name, format!("param `{k}` given, but {} has no `params` uniform", shader.name)));
+        }
+        return Ok(None);
+    };
+    PassParams::new(&shader.name, layout, pass.params.clone()).map(Some).map_err(|e| {
+        let kind = match e {
+            ParamError::Missing(_) => ErrorKind::MissingParam,
+            ParamError::Unknown(_) => ErrorKind::UnknownParam,
+            ParamError::Bad(_) => ErrorKind::BadParam,
+        };
+        err(kind, name, e.message())
+    })
+}
+
+fn check_constants(pass: &PassDesc, shader: &ShaderInfo) -> Result<Vec<(String, f64)>, CompileError> {
+    let name = Some(pass.name.as_str());
+    for (k, v) in &pass.constants {
+        let Some(o) = shader.overrides.iter().find(|o| &o.name == k) else {
+            return Err(err(
+                ErrorKind::UnknownConstant,
+                name,
+                format!("unknown constant `{k}`; {} overrides: {}", shader.name, names(shader.overrides.iter().map(|o| &o.name))),
+            ));
+        };
+        let fits = match o.scalar {
+            ScalarType::F32 => v.is_finite(),
+            ScalarType::U32 => v.fract() == 0.0 && *v >= 0.0,
+            ScalarType::I32 => v.fract() == 0.0,
+            ScalarType::Bool => *v == 0.0 || *v == 1.0,
+        };
+        if !fits {
+            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is {:?}; {v} does not fit", o.scalar)));
+        }
+    }
+    if let Some(o) = shader.overrides.iter().find(|o| !o.has_default && !pass.constants.contains_key(&o.name)) {
+        return Err(err(ErrorKind::MissingConstant, name, format!("override `{}` has no default; give it in `constants`", o.name)));
+    }
+    Ok(pass.constants.iter().map(|(k, v)| (k.clone(), *v)).collect())
+}
+

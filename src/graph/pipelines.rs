@@ -1,0 +1,202 @@
+//! The pipeline cache. A compute pipeline is keyed by the content of its
+//! shader's import closure (the expanded source: the pass file and every
+//! file it imports, directly or not), the entry point and the override
+//! constants. An edit of a file therefore misses the cache for exactly the
+//! pipelines whose closure contains it; everything else is reused as is.
+//!
+//! Building needs only the device, so a rebuild can run on another thread
+//! (the viewer keeps presenting meanwhile); every pipeline is created inside
+//! a validation error scope, so a driver that refuses one is an error that
+//! names the pass, not a panic.
+
+use std::collections::hash_map::DefaultHasher;
+use std::collections::{BTreeMap, HashMap};
+use std::hash::{Hash, Hasher};
+use std::sync::Arc;
+
+use crate::error::UserError;
+use crate::format::TexFormat;
+use crate::graph::schedule::{ResolvedBinding, ScheduledPass};
+use crate::graph::CompiledGraph;
+use crate::shader::{BindingKind, SampleType, Shader, StorageAccess};
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    shader: String,
+    /// Hash of the expanded source (the whole import closure's content).
+    source: u64,
+    entry: String,
+    /// Override constants, sorted by name, values as bits.
+    constants: Vec<(String, u64)>,
+}
+
+/// A pipeline and the bind group layouts it was made with.
+pub struct CachedPipeline {
+    pub pipeline: wgpu::ComputePipeline,
+    pub layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
+}
+
+/// Pipelines by key. Cloning is cheap (shared handles).
+#[derive(Clone, Default)]
+pub struct PipelineCache {
+    entries: HashMap<PipelineKey, Arc<CachedPipeline>>,
+}
+
+/// The pipelines of one schedule, in pass order, with what had to be built.
+pub struct PipelineSet {
+    pub per_pass: Vec<Arc<CachedPipeline>>,
+    /// Names of the passes whose pipeline was not in the cache.
+    pub built: Vec<String>,
+    /// The cache holding exactly these pipelines (entries no pass uses any
+    /// more are left out, so replaced pipelines are released).
+    pub cache: PipelineCache,
+}
+
+pub fn wgpu_format(f: TexFormat) -> wgpu::TextureFormat {
+    match f {
+        TexFormat::R32Float => wgpu::TextureFormat::R32Float,
+        TexFormat::Rg32Float => wgpu::TextureFormat::Rg32Float,
+        TexFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
+        TexFormat::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
+        TexFormat::R32Uint => wgpu::TextureFormat::R32Uint,
+        TexFormat::Rg32Uint => wgpu::TextureFormat::Rg32Uint,
+        TexFormat::Rgba32Uint => wgpu::TextureFormat::Rgba32Uint,
+        TexFormat::Rgba8Unorm => wgpu::TextureFormat::Rgba8Unorm,
+    }
+}
+
+fn layout_entry(b: &ResolvedBinding) -> wgpu::BindGroupLayoutEntry {
+    let ty = match &b.kind {
+        BindingKind::SampledTexture { sample } => wgpu::BindingType::Texture {
+            sample_type: match sample {
+                SampleType::Float => wgpu::TextureSampleType::Float { filterable: false },
+                SampleType::Uint => wgpu::TextureSampleType::Uint,
+                SampleType::Sint => wgpu::TextureSampleType::Sint,
+            },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        BindingKind::StorageTexture { format, access } => wgpu::BindingType::StorageTexture {
+            access: match access {
+                StorageAccess::Read => wgpu::StorageTextureAccess::ReadOnly,
+                StorageAccess::Write => wgpu::StorageTextureAccess::WriteOnly,
+                StorageAccess::ReadWrite => wgpu::StorageTextureAccess::ReadWrite,
+            },
+            format: wgpu_format(*format),
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        BindingKind::Uniform { .. } => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        BindingKind::Storage { read_only } => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: *read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    };
+    wgpu::BindGroupLayoutEntry { binding: b.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
+}
+
+/// The constants a pass's pipeline is built with: the graph's, then the
+/// engine's defaults for overrides the shader declares and the graph left
+/// unset (e.g. `FLAT_SCENE`, chosen from the scene).
+pub fn pass_constants(sp: &ScheduledPass, shader: &Shader, engine: &[(&str, f64)]) -> Vec<(String, f64)> {
+    let mut constants = sp.constants.clone();
+    for (name, value) in engine {
+        let declared = shader.info.overrides.iter().any(|o| o.name == *name);
+        if declared && !constants.iter().any(|(k, _)| k == name) {
+            constants.push((name.to_string(), *value));
+        }
+    }
+    constants.sort_by(|a, b| a.0.cmp(&b.0));
+    constants
+}
+
+fn key(sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> PipelineKey {
+    let mut h = DefaultHasher::new();
+    shader.source.text.hash(&mut h);
+    PipelineKey {
+        shader: sp.shader.clone(),
+        source: h.finish(),
+        entry: sp.entry.clone(),
+        constants: constants.iter().map(|(k, v)| (k.clone(), v.to_bits())).collect(),
+    }
+}
+
+impl PipelineCache {
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Looks up or builds the pipeline of every pass of `graph`. Does not
+    /// change `self`: the result carries the cache to swap in.
+    pub fn build(&self, device: &wgpu::Device, graph: &CompiledGraph, engine: &[(&str, f64)]) -> Result<PipelineSet, UserError> {
+        let mut per_pass = Vec::new();
+        let mut built = Vec::new();
+        let mut cache = PipelineCache::default();
+        for sp in &graph.schedule.passes {
+            let shader = graph
+                .shaders
+                .get(&sp.shader)
+                .ok_or_else(|| UserError::new(format!("pass `{}`: shader {} was not loaded", sp.name, sp.shader)))?;
+            let constants = pass_constants(sp, shader, engine);
+            let k = key(sp, shader, &constants);
+            let p = match cache.entries.get(&k).or_else(|| self.entries.get(&k)) {
+                Some(p) => Arc::clone(p),
+                None => {
+                    built.push(sp.name.clone());
+                    Arc::new(create(device, sp, shader, &constants)?)
+                }
+            };
+            cache.entries.insert(k, Arc::clone(&p));
+            per_pass.push(p);
+        }
+        Ok(PipelineSet { per_pass, built, cache })
+    }
+}
+
+fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(&sp.shader),
+        source: wgpu::ShaderSource::Wgsl(shader.source.text.as_str().into()),
+    });
+    let mut by_group: BTreeMap<u32, Vec<&ResolvedBinding>> = BTreeMap::new();
+    for b in &sp.bindings {
+        by_group.entry(b.group).or_default().push(b);
+    }
+    let layouts: BTreeMap<u32, wgpu::BindGroupLayout> = by_group
+        .iter()
+        .map(|(g, bs)| {
+            let entries: Vec<_> = bs.iter().map(|b| layout_entry(b)).collect();
+            (*g, device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(&sp.name), entries: &entries }))
+        })
+        .collect();
+    let groups = layouts.keys().max().map(|g| g + 1).unwrap_or(0);
+    let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> = (0..groups).map(|g| layouts.get(&g)).collect();
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&sp.name),
+        bind_group_layouts: &layout_refs,
+        immediate_size: 0,
+    });
+    let constants: Vec<(&str, f64)> = constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(&sp.name),
+        layout: Some(&pipeline_layout),
+        module: &module,
+        entry_point: Some(&sp.entry),
+        compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+        cache: None,
+    });
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        let at = shader.source.files.first().map(|f| f.display().to_string()).unwrap_or_else(|| sp.shader.clone());
+        return Err(UserError::new(format!("pass `{}` ({at}): the GPU driver rejected the pipeline: {e}", sp.name)));
+    }
+    Ok(CachedPipeline { pipeline, layouts })
+}

@@ -1,0 +1,148 @@
+//! The one frame loop every front end uses: scene time (fixed steps for
+//! headless renders, the wall clock in the viewer, pausable), the camera
+//! path, the PID controller on the measured frame time, and the timing
+//! statistics by pass name.
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use crate::camera_path::CameraPath;
+use crate::control::{Pid, PidConfig};
+use crate::error::UserError;
+use crate::graph::executor::{PassTimings, Timing};
+use crate::metrics::median;
+use crate::scene::Camera;
+use crate::session::{Session, DEFAULT_MASK_THRESHOLD};
+
+/// How scene time advances from frame to frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Clock {
+    /// By a fixed step (headless renders: reproducible).
+    Fixed { dt: f32 },
+    /// By the wall-clock time between frames (the viewer).
+    Real,
+}
+
+/// A frame-time target driving the noise-mask threshold.
+pub struct FrameTarget {
+    pub target_ms: f64,
+    pub pid: Pid,
+}
+
+impl FrameTarget {
+    pub fn new(target_ms: f64) -> Result<FrameTarget, UserError> {
+        if !(target_ms.is_finite() && target_ms > 0.0) {
+            return Err(UserError::new(format!("frame-time target {target_ms} ms: give a positive number of milliseconds")));
+        }
+        Ok(FrameTarget { target_ms, pid: Pid::new(PidConfig::frame_time(), f64::from(DEFAULT_MASK_THRESHOLD)) })
+    }
+}
+
+/// Per-frame figures, kept for reports and the viewer's plots.
+#[derive(Debug, Clone, Default)]
+pub struct FrameStats {
+    /// Wall milliseconds of each frame (recording and submission, and the
+    /// wait when the timing mode waits).
+    pub frame_ms: Vec<f64>,
+    /// Milliseconds per pass, by name, in the order first seen.
+    pub pass_ms: Vec<(String, Vec<f64>)>,
+    /// The last frame's timings that arrived, by pass name.
+    pub last: BTreeMap<String, f64>,
+    /// The mask threshold after each frame.
+    pub thresholds: Vec<f32>,
+}
+
+impl FrameStats {
+    fn record(&mut self, t: &PassTimings) {
+        self.last.clear();
+        for (name, ms) in &t.passes {
+            self.last.insert(name.clone(), *ms);
+            match self.pass_ms.iter_mut().find(|(n, _)| n == name) {
+                Some((_, v)) => v.push(*ms),
+                None => self.pass_ms.push((name.clone(), vec![*ms])),
+            }
+        }
+    }
+
+    /// Median of every pass that was timed, in first-seen order.
+    pub fn pass_medians(&self) -> Vec<(String, f64)> {
+        self.pass_ms.iter().map(|(n, v)| (n.clone(), median(v))).collect()
+    }
+}
+
+/// What one step did.
+#[derive(Debug, Clone)]
+pub struct FrameReport {
+    pub time: f32,
+    pub wall_ms: f64,
+    /// Timings that arrived during this step (possibly of earlier frames).
+    pub timings: Vec<PassTimings>,
+}
+
+pub struct FrameLoop {
+    /// Scene time of the next frame, seconds.
+    pub time: f32,
+    pub clock: Clock,
+    /// While paused, scene time stands still (the camera still moves).
+    pub paused: bool,
+    pub camera_path: Option<CameraPath>,
+    /// The camera the path starts from.
+    pub base_camera: Camera,
+    pub target: Option<FrameTarget>,
+    pub stats: FrameStats,
+    last_step: Option<Instant>,
+}
+
+impl FrameLoop {
+    pub fn new(time: f32, clock: Clock, base_camera: Camera) -> FrameLoop {
+        FrameLoop { time, clock, paused: false, camera_path: None, base_camera, target: None, stats: FrameStats::default(), last_step: None }
+    }
+
+    /// Renders one frame: camera from the path, the frame, the PID update
+    /// from the measured time, statistics; then advances the clock.
+    pub fn step(&mut self, session: &mut Session) -> FrameReport {
+        let now = Instant::now();
+        if self.clock == Clock::Real && !self.paused {
+            if let Some(last) = self.last_step {
+                // A long stall (a window drag, a breakpoint) is not a jump.
+                self.time += now.duration_since(last).as_secs_f32().min(0.25);
+            }
+        }
+        self.last_step = Some(now);
+        if let Some(path) = &self.camera_path {
+            session.scene.scene.camera = path.at(&self.base_camera, self.time);
+        }
+        let time = self.time;
+        let timings = session.frame(time);
+        let wall_ms = now.elapsed().as_secs_f64() * 1e3;
+        self.stats.frame_ms.push(wall_ms);
+        for t in &timings {
+            self.stats.record(t);
+        }
+        if let Some(target) = &mut self.target {
+            // GPU time where timestamps bracket the work (it arrives a
+            // frame or two late), else wall time.
+            let measured = match session.timing {
+                Timing::Gpu => timings.last().map(PassTimings::total),
+                _ => Some(wall_ms),
+            };
+            if let Some(ms) = measured {
+                session.mask_threshold = target.pid.update(target.target_ms, ms, wall_ms / 1e3) as f32;
+            }
+        }
+        self.stats.thresholds.push(session.mask_threshold);
+        if let Clock::Fixed { dt } = self.clock {
+            if !self.paused {
+                self.time += dt;
+            }
+        }
+        FrameReport { time, wall_ms, timings }
+    }
+
+    /// Waits for the frames in flight and records their timings.
+    pub fn finish(&mut self, session: &mut Session) {
+        for t in session.finish() {
+            self.stats.record(&t);
+        }
+    }
+}

@@ -1,0 +1,411 @@
+//! The live engine (docs/ARCHITECTURE.md, "The session"): one object that
+//! owns the scene on the GPU, the compiled graph, the pipeline cache, the
+//! executor and the frame state. `glint render`, `converge`, `bench`, the
+//! tests and the viewer all render through it.
+//!
+//! Every change (`reload_shaders`, `reload_graph`, `reload_scene`,
+//! `set_graph`, `set_enabled`) is built aside by a `RebuildJob` and
+//! swapped in by `commit` only when every step succeeded; on failure the
+//! session is unchanged and the error is returned. `set_param` writes the
+//! pass's params buffer, without a recompile. Objects replaced by a swap are
+//! kept until the GPU has finished the frames that used them.
+
+pub mod frame_loop;
+pub mod frame_uniform;
+pub mod rebuild;
+pub mod scene_gpu;
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use crate::error::UserError;
+use crate::gpu::readback::ImageF32;
+use crate::gpu::Gpu;
+use crate::graph::desc::ParamValue;
+use crate::graph::edit::ParamSet;
+use crate::graph::executor::{Executor, PassTimings, Timing};
+use crate::graph::pipelines::PipelineCache;
+use crate::graph::{self, CompileOptions, CompiledGraph};
+use crate::scene::Scene;
+use frame_uniform::{CameraGpu, FrameGpu};
+use rebuild::{Rebuild, RebuildJob, RebuildKind};
+use scene_gpu::SceneGpu;
+
+/// The noise-mask threshold without a frame-time target (and the PID's
+/// starting point): masks the strongest noise of a one-sample frame.
+pub const DEFAULT_MASK_THRESHOLD: f32 = 0.1;
+
+/// Checks a render size against the adapter.
+pub fn check_size(gpu: &Gpu, size: (u32, u32)) -> Result<(), UserError> {
+    let max = gpu.max_texture_side();
+    if size.0 == 0 || size.1 == 0 {
+        return Err(UserError::new(format!("the size {}x{} is empty; give --size WxH with both at least 1", size.0, size.1)));
+    }
+    if size.0 > max || size.1 > max {
+        return Err(UserError::new(format!(
+            "the size {}x{} is beyond this adapter's limit of {max}x{max} ({}); render smaller",
+            size.0,
+            size.1,
+            gpu.describe()
+        )));
+    }
+    Ok(())
+}
+
+/// How a session renders.
+#[derive(Debug, Clone)]
+pub struct SessionOptions {
+    pub size: (u32, u32),
+    pub seed: u32,
+    /// Output override, `--set`/`--skip`/`--stop-after`, kept resources.
+    pub compile: CompileOptions,
+    /// The shader folder (default: next to the graph's folder).
+    pub shader_dir: Option<PathBuf>,
+}
+
+impl SessionOptions {
+    pub fn new(size: (u32, u32)) -> SessionOptions {
+        SessionOptions { size, seed: 1, compile: CompileOptions::default(), shader_dir: None }
+    }
+}
+
+/// What a committed rebuild did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReloadReport {
+    pub kind: RebuildKind,
+    /// Passes whose pipeline was built (not found in the cache).
+    pub rebuilt: Vec<String>,
+    /// Textures taken over from the replaced executor.
+    pub textures_kept: usize,
+    /// From the start of the rebuild to the swap.
+    pub ms: f64,
+}
+
+/// Frame counters behind the `frame` uniform.
+#[derive(Debug, Clone, Copy, Default)]
+struct FrameState {
+    frame_index: u32,
+    accum_count: u32,
+    epoch_frames: u32,
+    last: Option<(CameraGpu, u32)>,
+}
+
+/// Replaced GPU objects, dropped once the frames submitted before the swap
+/// have finished.
+struct Retired {
+    done: Arc<AtomicBool>,
+    _executor: Executor,
+    _scene: Option<SceneGpu>,
+    _pipelines: PipelineCache,
+}
+
+pub struct Session {
+    pub gpu: Gpu,
+    pub scene: SceneGpu,
+    pub graph: CompiledGraph,
+    pub executor: Executor,
+    shader_dir: PathBuf,
+    options: CompileOptions,
+    pipelines: PipelineCache,
+    frame_buffer: wgpu::Buffer,
+    pub size: (u32, u32),
+    pub seed: u32,
+    /// Written into the frame uniform; the PID controller moves it.
+    pub mask_threshold: f32,
+    /// How frames are timed (see `Timing::for_adapter`).
+    pub timing: Timing,
+    state: FrameState,
+    retired: Vec<Retired>,
+    /// Pipelines built since the session started (cache misses).
+    pub pipelines_built: usize,
+}
+
+impl Session {
+    /// Loads the graph at `graph_path` and its shaders, compiles it for the
+    /// scene and builds everything.
+    pub fn new(gpu: &Gpu, scene: Scene, graph_path: &Path, options: SessionOptions) -> Result<Session, UserError> {
+        let shader_dir = options.shader_dir.clone().unwrap_or_else(|| graph::shader_dir_for(graph_path));
+        let compiled = graph::load_and_compile(graph_path, &shader_dir, &scene.features, &options.compile)?;
+        Self::with_graph(gpu, scene, compiled, shader_dir, options)
+    }
+
+    /// A session for an already compiled graph (tests and benchmarks that
+    /// adjust the schedule before it is built).
+    pub fn with_graph(gpu: &Gpu, scene: Scene, graph: CompiledGraph, shader_dir: PathBuf, options: SessionOptions) -> Result<Session, UserError> {
+        check_size(gpu, options.size)?;
+        let shader_dir = std::fs::canonicalize(&shader_dir).unwrap_or(shader_dir);
+        let scene = SceneGpu::new(gpu, scene)?;
+        let frame_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame"),
+            size: std::mem::size_of::<FrameGpu>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let set = PipelineCache::default().build(&gpu.device, &graph, &scene.engine_constants())?;
+        let executor = Executor::new(gpu, &graph.schedule, &set.per_pass, &|e| scene.binding(e, &frame_buffer), options.size, None)?;
+        Ok(Session {
+            gpu: gpu.clone(),
+            pipelines_built: set.built.len(),
+            pipelines: set.cache,
+            scene,
+            graph,
+            executor,
+            shader_dir,
+            options: options.compile,
+            frame_buffer,
+            size: options.size,
+            seed: options.seed,
+            mask_threshold: DEFAULT_MASK_THRESHOLD,
+            timing: Timing::None,
+            state: FrameState::default(),
+            retired: Vec::new(),
+        })
+    }
+
+    /// Renders one frame at absolute scene time `time` seconds. Returns the
+    /// per-pass timings that are ready (see `Executor::run_frame`).
+    pub fn frame(&mut self, time: f32) -> Vec<PassTimings> {
+        self.release_retired();
+        self.scene.animate(&self.gpu.queue, time);
+        let camera = CameraGpu::new(&self.scene.scene.camera, self.size);
+        let epoch = self.scene.buffers.epoch;
+        let st = &mut self.state;
+        let prev_camera = match st.last {
+            Some((c, e)) => {
+                if c != camera || e != epoch {
+                    st.accum_count = 0;
+                }
+                if e != epoch {
+                    st.epoch_frames = 0;
+                }
+                c
+            }
+            None => camera,
+        };
+        let data = &self.scene.buffers.data;
+        let frame = FrameGpu {
+            camera,
+            prev_camera,
+            size: [self.size.0, self.size.1],
+            frame_index: st.frame_index,
+            accum_count: st.accum_count,
+            time,
+            seed: self.seed,
+            scene_epoch: epoch,
+            n_spheres: data.spheres.len() as u32,
+            n_instances: data.instances.len() as u32,
+            n_triangles: data.triangles.len() as u32,
+            n_lights: data.lights.len() as u32,
+            mask_threshold: self.mask_threshold,
+            background: data.background,
+            epoch_frames: st.epoch_frames,
+        };
+        self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        let timings = self.executor.run_frame(&self.gpu, self.timing);
+        st.last = Some((camera, epoch));
+        st.frame_index = st.frame_index.wrapping_add(1);
+        st.accum_count = st.accum_count.saturating_add(1);
+        st.epoch_frames = st.epoch_frames.saturating_add(1);
+        timings
+    }
+
+    /// Waits for the frames in flight and returns their GPU timings.
+    pub fn finish(&mut self) -> Vec<PassTimings> {
+        self.executor.collect_timings(&self.gpu, true)
+    }
+
+    /// Drops all accumulated history (as a scene change would).
+    pub fn reset_accumulation(&mut self) {
+        self.state.accum_count = 0;
+        self.state.epoch_frames = 0;
+    }
+
+    /// Starts over as a new session would: history dropped and the frame
+    /// index back at 0, so the frames after a change equal a fresh render
+    /// with the new settings.
+    pub fn restart(&mut self) {
+        self.state = FrameState::default();
+    }
+
+    /// Frames accumulated since the last reset.
+    pub fn accumulated(&self) -> u32 {
+        self.state.accum_count
+    }
+
+    pub fn read_output(&self) -> Result<ImageF32, UserError> {
+        self.executor.read_output(&self.gpu)
+    }
+
+    /// A kept resource's final version (see `Executor::read_resource`).
+    pub fn read_resource(&self, resource: &str) -> Option<Result<ImageF32, UserError>> {
+        self.executor.read_resource(&self.gpu, resource)
+    }
+
+    /// The files this session is made of, for the watcher.
+    pub fn sources(&self) -> crate::reload::Sources {
+        let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+        let scene = &self.scene.scene;
+        crate::reload::Sources {
+            shader_dir: self.shader_dir.clone(),
+            graph: canon(&self.graph.path),
+            scene: scene.path.is_file().then(|| canon(&scene.path)),
+            meshes: scene.mesh_files.iter().map(|m| canon(m)).collect(),
+        }
+    }
+
+    pub fn shader_dir(&self) -> &Path {
+        &self.shader_dir
+    }
+
+    /// The compile options in force: the command line's plus live changes.
+    pub fn options(&self) -> &CompileOptions {
+        &self.options
+    }
+
+    /// Passes switched off with `set_enabled` (or `--skip`).
+    pub fn disabled(&self) -> &[String] {
+        &self.options.edits.skip
+    }
+
+    /// Sets one param of a scheduled pass. Checked against the reflected
+    /// layout with the same errors as `--set`; applies from the next frame
+    /// without a recompile and restarts accumulation.
+    pub fn set_param(&mut self, pass: &str, name: &str, value: ParamValue) -> Result<(), UserError> {
+        let schedule = &mut self.executor.schedule;
+        let Some(index) = schedule.passes.iter().position(|p| p.name == pass) else {
+            let known: Vec<&str> = schedule.passes.iter().map(|p| p.name.as_str()).collect();
+            return Err(UserError::new(format!("no scheduled pass `{pass}`; passes: {}", known.join(", "))));
+        };
+        let sp = &mut schedule.passes[index];
+        let Some(params) = sp.params.as_mut() else {
+            return Err(UserError::new(format!("pass `{pass}`: param `{name}` given, but {} has no `params` uniform", sp.shader)));
+        };
+        params.set(name, value.clone()).map_err(|e| UserError::new(format!("pass `{pass}`: {}", e.message())))?;
+        let params = params.clone();
+        self.executor.write_params(&self.gpu.queue, index, &params.bytes);
+        if let Some(p) = self.graph.schedule.passes.iter_mut().find(|p| p.name == pass) {
+            p.params = Some(params);
+        }
+        let sets = &mut self.options.edits.set;
+        sets.retain(|s| !(s.pass == pass && s.param == name));
+        sets.push(ParamSet { pass: pass.to_string(), param: name.to_string(), value });
+        self.restart();
+        Ok(())
+    }
+
+    /// A param's current value, if the pass is scheduled and has it.
+    pub fn param(&self, pass: &str, name: &str) -> Option<&ParamValue> {
+        let sp = self.executor.schedule.passes.iter().find(|p| p.name == pass)?;
+        sp.params.as_ref()?.values.get(name)
+    }
+
+    // -- rebuilds ----------------------------------------------------------
+
+    /// A rebuild of `kind`, to run on any thread and then `commit`.
+    pub fn job(&self, kind: RebuildKind) -> RebuildJob {
+        RebuildJob {
+            gpu: self.gpu.clone(),
+            kind,
+            graph: self.graph.clone(),
+            shader_dir: self.shader_dir.clone(),
+            options: self.options.clone(),
+            cache: self.pipelines.clone(),
+            camera: self.scene.scene.camera,
+            engine_constants: self.scene.engine_constants(),
+        }
+    }
+
+    /// Swaps a finished rebuild in. The executor is made here (textures
+    /// kept where their descriptors match, new bind groups); if that fails
+    /// nothing changes. Accumulation restarts: the image changed.
+    pub fn commit(&mut self, r: Rebuild) -> Result<ReloadReport, UserError> {
+        let scene = r.scene.as_ref().unwrap_or(&self.scene);
+        let frame_buffer = &self.frame_buffer;
+        let executor = Executor::new(&self.gpu, &r.graph.schedule, &r.pipelines.per_pass, &|e| scene.binding(e, frame_buffer), self.size, Some(&self.executor))?;
+        let report = ReloadReport {
+            kind: r.kind,
+            rebuilt: r.pipelines.built.clone(),
+            textures_kept: executor.textures_kept,
+            ms: r.started.elapsed().as_secs_f64() * 1e3,
+        };
+        let old_executor = std::mem::replace(&mut self.executor, executor);
+        let old_scene = r.scene.map(|s| std::mem::replace(&mut self.scene, s));
+        let old_pipelines = std::mem::replace(&mut self.pipelines, r.pipelines.cache);
+        self.retire(old_executor, old_scene, old_pipelines);
+        self.graph = r.graph;
+        self.options = r.options;
+        self.pipelines_built += report.rebuilt.len();
+        self.restart();
+        Ok(report)
+    }
+
+    fn run_job(&mut self, kind: RebuildKind) -> Result<ReloadReport, UserError> {
+        let rebuild = self.job(kind).run()?;
+        self.commit(rebuild)
+    }
+
+    /// Reloads every shader whose import closure holds one of `files` and
+    /// rebuilds exactly the pipelines whose source changed.
+    pub fn reload_shaders(&mut self, files: &[PathBuf]) -> Result<ReloadReport, UserError> {
+        self.run_job(RebuildKind::Shaders(files.to_vec()))
+    }
+
+    /// Re-reads the graph file, keeping the params set where pass and name
+    /// still match.
+    pub fn reload_graph(&mut self, path: &Path) -> Result<ReloadReport, UserError> {
+        self.run_job(RebuildKind::Graph(path.to_path_buf()))
+    }
+
+    /// Runs another graph (params set for the old one are dropped).
+    pub fn set_graph(&mut self, path: &Path) -> Result<ReloadReport, UserError> {
+        self.run_job(RebuildKind::SwitchGraph(path.to_path_buf()))
+    }
+
+    /// Reloads the scene file (and its meshes), keeping the camera.
+    pub fn reload_scene(&mut self, path: &Path) -> Result<ReloadReport, UserError> {
+        self.run_job(RebuildKind::Scene(path.to_path_buf()))
+    }
+
+    /// Switches a pass on or off, as `--skip` does (whatever then feeds
+    /// nothing is culled).
+    pub fn set_enabled(&mut self, pass: &str, enabled: bool) -> Result<ReloadReport, UserError> {
+        if !self.graph.desc.passes.iter().any(|p| p.name == pass) {
+            let known: Vec<&str> = self.graph.desc.passes.iter().map(|p| p.name.as_str()).collect();
+            return Err(UserError::new(format!("no pass `{pass}` in graph `{}`; passes: {}", self.graph.desc.name, known.join(", "))));
+        }
+        let mut job = self.job(RebuildKind::Edits);
+        job.options.edits.skip.retain(|s| s != pass);
+        if !enabled {
+            job.options.edits.skip.push(pass.to_string());
+        }
+        let rebuild = job.run()?;
+        self.commit(rebuild)
+    }
+
+    fn retire(&mut self, executor: Executor, scene: Option<SceneGpu>, pipelines: PipelineCache) {
+        let done = Arc::new(AtomicBool::new(false));
+        let flag = Arc::clone(&done);
+        self.gpu.queue.on_submitted_work_done(move || flag.store(true, Ordering::Release));
+        self.retired.push(Retired { done, _executor: executor, _scene: scene, _pipelines: pipelines });
+    }
+
+    fn release_retired(&mut self) {
+        if self.retired.is_empty() {
+            return;
+        }
+        let _ = self.gpu.device.poll(wgpu::PollType::Poll);
+        self.retired.retain(|r| !r.done.load(Ordering::Acquire));
+    }
+
+    /// Replaced objects still waiting for the GPU (for tests).
+    pub fn retired_count(&self) -> usize {
+        self.retired.len()
+    }
+
+    /// Waits for the GPU and drops every replaced object now.
+    pub fn release_all(&mut self) {
+        self.gpu.wait();
+        self.release_retired();
+    }
+}
