@@ -16,10 +16,10 @@
 #import frame
 
 struct Params {
-    mode: u32,
-    depth_tol: f32,
-    normal_cos: f32,
-    max_history: f32,
+    mode: u32, // ui: 0..1 "mode (0 reset, 1 reproject)"
+    depth_tol: f32, // ui: 0.0001..0.1 log "depth tolerance"
+    normal_cos: f32, // ui: 0..1 "normal cos"
+    max_history: f32, // ui: 0..4096 "max history (0: none)"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

@@ -5,8 +5,8 @@
 override AXIS: u32 = 0u;
 
 struct Params {
-    sigma: f32,
-    radius: u32,
+    sigma: f32, // ui: 0.25..8 log
+    radius: u32, // ui: 0..16
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

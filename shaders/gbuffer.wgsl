@@ -6,7 +6,7 @@
 #import rng
 
 struct Params {
-    jitter: u32,
+    jitter: u32, // ui: bool "jitter"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

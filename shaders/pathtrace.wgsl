@@ -8,9 +8,9 @@
 #import rng
 
 struct Params {
-    spp: u32,
-    max_depth: u32,
-    rr_depth: u32,
+    spp: u32, // ui: 1..64 "samples per pixel"
+    max_depth: u32, // ui: 1..16 "max bounces"
+    rr_depth: u32, // ui: 0..16 "roulette from bounce"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

@@ -4,10 +4,10 @@
 #import lights
 
 struct Params {
-    samples: u32,
-    base_samples: u32,
-    falloff: u32,
-    falloff_k: f32,
+    samples: u32, // ui: 1..64 "extra samples"
+    base_samples: u32, // ui: 1..64 "samples of the base pass"
+    falloff: u32, // ui: 0..1
+    falloff_k: f32, // ui: 0..10
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

@@ -9,9 +9,9 @@
 #import lights
 
 struct Params {
-    max_depth: u32,
-    samples: u32,
-    reuse: u32,
+    max_depth: u32, // ui: 1..8 "max depth"
+    samples: u32, // ui: 1..16
+    reuse: u32, // ui: bool "screen-space reuse"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

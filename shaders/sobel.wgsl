@@ -6,7 +6,7 @@
 #import scene
 
 struct Params {
-    normal_cos: f32,
+    normal_cos: f32, // ui: 0..1 "normal cos"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

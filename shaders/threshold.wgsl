@@ -4,8 +4,8 @@
 #import frame
 
 struct Params {
-    threshold: f32,
-    use_pid: u32,
+    threshold: f32, // ui: 0..1
+    use_pid: u32, // ui: bool "threshold from the PID"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

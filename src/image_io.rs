@@ -24,6 +24,36 @@ pub fn to_srgb8(img: &ImageF32) -> Vec<u8> {
 }
 
 /// Writes a PFM (linear RGB f32, bottom row first, little-endian).
+/// Resamples to `w`x`h` with bilinear filtering over texel centres (a
+/// machine profile's lower render resolution, shown at the size asked for).
+pub fn resize_bilinear(img: &ImageF32, w: u32, h: u32) -> ImageF32 {
+    let mut out = ImageF32::new(w, h);
+    if img.width == 0 || img.height == 0 {
+        return out;
+    }
+    let sx = img.width as f32 / w as f32;
+    let sy = img.height as f32 / h as f32;
+    for y in 0..h {
+        let fy = ((y as f32 + 0.5) * sy - 0.5).clamp(0.0, (img.height - 1) as f32);
+        let (y0, ty) = (fy.floor() as u32, fy.fract());
+        let y1 = (y0 + 1).min(img.height - 1);
+        for x in 0..w {
+            let fx = ((x as f32 + 0.5) * sx - 0.5).clamp(0.0, (img.width - 1) as f32);
+            let (x0, tx) = (fx.floor() as u32, fx.fract());
+            let x1 = (x0 + 1).min(img.width - 1);
+            let (a, b, c, d) = (img.get(x0, y0), img.get(x1, y0), img.get(x0, y1), img.get(x1, y1));
+            let mut p = [0.0; 4];
+            for k in 0..4 {
+                let top = a[k] + (b[k] - a[k]) * tx;
+                let bottom = c[k] + (d[k] - c[k]) * tx;
+                p[k] = top + (bottom - top) * ty;
+            }
+            out.data[(y * w + x) as usize] = p;
+        }
+    }
+    out
+}
+
 fn save_pfm(img: &ImageF32, path: &Path) -> std::io::Result<()> {
     write_pfm(img, path, 3)
 }

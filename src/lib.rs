@@ -24,3 +24,4 @@ pub mod scene;
 pub mod session;
 pub mod shader;
 pub mod stats;
+pub mod viewer;

@@ -22,6 +22,7 @@ mod bench_cmd;
 mod converge_cmd;
 mod graph_cmd;
 mod render_cmd;
+mod view_cmd;
 mod watch_cmd;
 
 use std::path::PathBuf;
@@ -59,6 +60,11 @@ pub enum Command {
         #[arg(long, default_value_t = 8)]
         block: u32,
     },
+    /// Open a window on a scene: panels, fly/orbit camera, hot reload.
+    View(view_cmd::ViewArgs),
+    /// Print this adapter, the machine profile it gets and why, and every
+    /// profile of passes/machines.ron.
+    Machines,
     /// Validate WGSL shaders with naga (all of shaders/ when none are named).
     Shaders {
         /// Shader files under the shader folder, e.g. lights.wgsl.
@@ -104,11 +110,27 @@ fn compare(reference: &std::path::Path, test: &std::path::Path, block: u32) -> R
     Ok(())
 }
 
+/// Switches off Mesa's device-select Vulkan layer unless the user set it
+/// up: it connects to a Wayland display just to order the adapters, and on
+/// a machine without one (headless, Xvfb) libwayland prints
+/// "error: XDG_RUNTIME_DIR is invalid or not set" twice, which reads like
+/// glint failing. glint orders adapters itself (`WGPU_ADAPTER_NAME` picks
+/// one). Called first thing in `main`, before any thread exists.
+fn quiet_platform() {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        // SAFETY of intent: single-threaded here, before any wgpu call.
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main() -> i32 {
+    quiet_platform();
     let cli = Cli::parse();
     let result: Result<(), UserError> = match cli.command {
         Command::Render(args) => render_cmd::run(args),
+        Command::View(args) => view_cmd::run(args),
+        Command::Machines => view_cmd::machines(),
         Command::Bench { command } => bench_cmd::run(command),
         Command::Graph { command: GraphCommand::Check(args) } => graph_cmd::check(args),
         Command::Shaders { files, dir } => graph_cmd::check_shaders(files, dir),

@@ -1,6 +1,6 @@
 //! `glint render`: headless rendering to a file, with timings.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
@@ -11,7 +11,6 @@ use crate::gpu::Gpu;
 use crate::graph::edit::{GraphEdits, ParamSet};
 use crate::graph::executor::Timing;
 use crate::graph::CompileOptions;
-use crate::machines::{DeviceType, Machines};
 use crate::metrics::median;
 use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
 use crate::session::{check_size, Session, SessionOptions};
@@ -87,24 +86,6 @@ impl EditArgs {
     }
 }
 
-/// Picks the graph: `--graph`, else the machine profile's graph, with the
-/// profile's frame-time target for the PID controller.
-fn choose_graph(args: &RenderArgs, gpu: &Gpu) -> Result<(PathBuf, Option<f64>), UserError> {
-    if let Some(g) = &args.graph {
-        return Ok((g.clone(), None));
-    }
-    let machines = Path::new("passes/machines.ron");
-    let machines = if machines.is_file() {
-        machines.to_path_buf()
-    } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/machines.ron")
-    };
-    let m = Machines::load(&machines)?;
-    let p = m.pick(DeviceType::of(gpu.info.device_type), &gpu.info.name);
-    eprintln!("glint: machine profile `{}`: {} (target {} ms)", p.name, p.graph, p.target_ms);
-    Ok((machines.parent().unwrap_or(Path::new(".")).join(&p.graph), Some(f64::from(p.target_ms))))
-}
-
 fn check_outputs(outs: &[PathBuf]) -> Result<(), UserError> {
     for out in outs {
         let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
@@ -131,11 +112,15 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
     let camera_path = args.camera_path.as_deref().map(CameraPath::parse).transpose()?;
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
-    let (graph_path, profile_target) = choose_graph(args, &gpu)?;
-    let target = args.target_ms.or(profile_target).map(FrameTarget::new).transpose()?;
-    let mut options = SessionOptions::new(args.size);
+    let choice = crate::machines::choose(&gpu, args.graph.as_deref())?;
+    let graph_path = choice.graph.clone();
+    let target = args.target_ms.or(choice.target_ms).map(FrameTarget::new).transpose()?;
+    let mut options = SessionOptions::new(choice.scaled(args.size));
     options.seed = args.seed;
-    options.compile = CompileOptions { output: args.output.clone(), edits: args.edits.edits(), keep: vec![REFLECT_REUSE.to_string()] };
+    let mut edits = args.edits.edits();
+    // The profile's params first, so a --set of the same param wins.
+    edits.set = choice.params.iter().cloned().chain(edits.set).collect();
+    options.compile = CompileOptions { output: args.output.clone(), edits, keep: vec![REFLECT_REUSE.to_string()] };
     let mut frames = FrameLoop::new(args.time, Clock::Fixed { dt: args.dt }, scene.camera);
     frames.camera_path = camera_path;
     frames.target = target;
@@ -160,7 +145,11 @@ pub(super) fn render_frames(args: &RenderArgs, session: &mut Session, frames: &m
     }
     frames.finish(session);
     bar.finish_and_clear();
-    let image = session.read_output()?;
+    let mut image = session.read_output()?;
+    if (image.width, image.height) != args.size {
+        // A machine profile's resolution scale: upscale to the size asked for.
+        image = image_io::resize_bilinear(&image, args.size.0, args.size.1);
+    }
     for out in &args.out {
         image_io::save(&image, out)?;
     }

@@ -39,9 +39,19 @@ impl Gpu {
         pollster::block_on(Self::new_async())
     }
 
+    /// A context on `instance` whose adapter can present to `surface`
+    /// (the viewer's window).
+    pub fn for_surface(instance: wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Gpu, UserError> {
+        pollster::block_on(Self::with_instance(instance, Some(surface)))
+    }
+
     async fn new_async() -> Result<Gpu, UserError> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = pick_adapter(&instance).await.ok_or_else(|| UserError::new(NO_ADAPTER_HELP))?;
+        Self::with_instance(instance, None).await
+    }
+
+    async fn with_instance(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Gpu, UserError> {
+        let adapter = pick_adapter(&instance, surface).await.ok_or_else(|| UserError::new(NO_ADAPTER_HELP))?;
         let info = adapter.get_info();
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
@@ -116,9 +126,12 @@ impl Gpu {
     }
 }
 
-async fn pick_adapter(instance: &wgpu::Instance) -> Option<wgpu::Adapter> {
+async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Option<wgpu::Adapter> {
     let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
-    let adapters = instance.enumerate_adapters(backends).await;
+    let mut adapters = instance.enumerate_adapters(backends).await;
+    if let Some(s) = surface {
+        adapters.retain(|a| a.is_surface_supported(s));
+    }
     if let Ok(name) = std::env::var("WGPU_ADAPTER_NAME") {
         let name = name.to_lowercase();
         return adapters.into_iter().find(|a| a.get_info().name.to_lowercase().contains(&name));

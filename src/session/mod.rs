@@ -383,6 +383,29 @@ impl Session {
         self.commit(rebuild)
     }
 
+    /// Keeps these resources' final versions out of the texture pool, so
+    /// they can be read back or shown after the frame (the viewer's
+    /// resource view). Recompiles.
+    pub fn set_kept(&mut self, resources: Vec<String>) -> Result<ReloadReport, UserError> {
+        let mut job = self.job(RebuildKind::Edits);
+        job.options.keep = resources;
+        let rebuild = job.run()?;
+        self.commit(rebuild)
+    }
+
+    /// Renders at another size from the next frame (a machine profile's
+    /// resolution scale, a resized window). On failure the old size stays.
+    pub fn resize(&mut self, size: (u32, u32)) -> Result<ReloadReport, UserError> {
+        check_size(&self.gpu, size)?;
+        let old = self.size;
+        self.size = size;
+        let result = self.job(RebuildKind::Edits).run().and_then(|r| self.commit(r));
+        if result.is_err() {
+            self.size = old;
+        }
+        result
+    }
+
     fn retire(&mut self, executor: Executor, scene: Option<SceneGpu>, pipelines: PipelineCache) {
         let done = Arc::new(AtomicBool::new(false));
         let flag = Arc::clone(&done);

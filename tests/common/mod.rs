@@ -23,6 +23,10 @@ pub fn gpu() -> Option<&'static Gpu> {
             // SAFETY of intent: tests run in one process; set before any wgpu call.
             unsafe { std::env::set_var("WGPU_BACKEND", "vulkan") };
         }
+        if std::env::var_os("NODEVICE_SELECT").is_none() {
+            // As `glint` does: no Wayland probe from Mesa's device-select layer.
+            unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+        }
         match Gpu::new() {
             Ok(g) => Some(g),
             Err(e) if std::env::var("CI").is_ok_and(|v| v == "true") => panic!("CI needs a GPU adapter: {e}"),
@@ -89,4 +93,29 @@ pub fn scratch(name: &str) -> PathBuf {
     let dir = repo().join("target/test-scratch").join(format!("{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("create scratch dir");
     dir
+}
+
+/// Copies a folder tree (files and subfolders).
+pub fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).expect("create folder");
+    for e in std::fs::read_dir(from).expect("read folder") {
+        let e = e.expect("folder entry");
+        let target = to.join(e.file_name());
+        if e.file_type().expect("file type").is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), &target).expect("copy file");
+        }
+    }
+}
+
+/// A scratch copy of the repo's `shaders/`, `passes/` and `scenes/` to edit
+/// (its canonical path, as the watcher and the session report paths).
+pub fn workspace(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    for sub in ["shaders", "passes", "scenes"] {
+        let _ = std::fs::remove_dir_all(dir.join(sub));
+        copy_dir(&repo().join(sub), &dir.join(sub));
+    }
+    std::fs::canonicalize(&dir).expect("canonical scratch dir")
 }

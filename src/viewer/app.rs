@@ -1,0 +1,499 @@
+//! The viewer's window and frame: winit events, the camera, the session's
+//! frame, hot reload off the presenting thread, the present pass and egui.
+
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::mpsc::{channel, Receiver, TryRecvError};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::Window;
+
+use crate::error::UserError;
+use crate::gpu::Gpu;
+use crate::graph::executor::Timing;
+use crate::reload::{classify, watch_dirs, Watcher};
+use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
+use crate::session::rebuild::{Rebuild, RebuildKind};
+use crate::session::{Session, SessionOptions};
+use crate::viewer::camera::{self, CameraControl};
+use crate::viewer::panels::{self, Action, PanelInput, PanelState};
+use crate::viewer::present::{Present, Rect};
+use crate::viewer::screenshot;
+use crate::viewer::ViewOptions;
+
+/// Width of the side panel in logical pixels.
+pub const PANEL_WIDTH: f32 = 340.0;
+
+struct Job {
+    what: String,
+    kind: &'static str,
+    result: Receiver<Result<Rebuild, UserError>>,
+    started: Instant,
+    frames: u64,
+}
+
+#[derive(Default)]
+struct Mouse {
+    left: bool,
+    right: bool,
+    over_ui: bool,
+    last: Option<(f64, f64)>,
+}
+
+pub struct Viewer {
+    pub window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    gpu: Gpu,
+    pub session: Session,
+    frames: FrameLoop,
+    egui_ctx: egui::Context,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+    present: Present,
+    control: CameraControl,
+    mouse: Mouse,
+    watcher: Option<Watcher>,
+    queue: VecDeque<RebuildKind>,
+    job: Option<Job>,
+    /// The error of the last failed rebuild, shown until a good one.
+    overlay: Option<String>,
+    last_reload: Option<String>,
+    panel: PanelState,
+    options: ViewOptions,
+    presented: u64,
+    fps: f64,
+    last_frame: Instant,
+    screenshot_requested: bool,
+    /// The viewport rectangle of the last frame (physical pixels).
+    viewport: Rect,
+    pub done: bool,
+}
+
+fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> {
+    // egui-wgpu and the present pass encode sRGB themselves.
+    let preferred = [wgpu::TextureFormat::Bgra8Unorm, wgpu::TextureFormat::Rgba8Unorm];
+    preferred.into_iter().find(|f| caps.formats.contains(f)).or_else(|| caps.formats.iter().copied().find(|f| !f.is_srgb()))
+}
+
+impl Viewer {
+    pub fn new(event_loop: &ActiveEventLoop, options: ViewOptions, scene: crate::scene::Scene) -> Result<Viewer, UserError> {
+        let (w, h) = options.size;
+        let attrs = Window::default_attributes()
+            .with_title(format!("glint: {}", options.scene.display()))
+            .with_inner_size(winit::dpi::LogicalSize::new(f64::from(w) + f64::from(PANEL_WIDTH), f64::from(h.max(480))));
+        let window = Arc::new(event_loop.create_window(attrs).map_err(|e| UserError::new(format!("cannot open a window: {e}")))?);
+        let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
+        let instance = wgpu::Instance::new(descriptor);
+        let surface = instance
+            .create_surface(Arc::clone(&window))
+            .map_err(|e| UserError::new(format!("cannot draw into the window: {e}")))?;
+        let gpu = Gpu::for_surface(instance, &surface)?;
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format = pick_format(&caps).ok_or_else(|| UserError::new(format!("{} offers no 8-bit surface format for the window", gpu.describe())))?;
+        let size = window.inner_size();
+        let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        if caps.usages.contains(wgpu::TextureUsages::COPY_SRC) {
+            usage |= wgpu::TextureUsages::COPY_SRC;
+        }
+        let config = wgpu::SurfaceConfiguration {
+            usage,
+            format,
+            color_space: wgpu::SurfaceColorSpace::Auto,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode: wgpu::PresentMode::AutoNoVsync,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![],
+        };
+        surface.configure(&gpu.device, &config);
+
+        let choice = crate::machines::choose(&gpu, options.graph.as_deref())?;
+        let mut session_options = SessionOptions::new(options.size);
+        session_options.seed = options.seed;
+        session_options.compile.edits.set = choice.params.clone();
+        session_options.size = choice.scaled(options.size);
+        let base_camera = scene.camera;
+        let mut session = Session::new(&gpu, scene, &choice.graph, session_options)?;
+        session.timing = Timing::for_adapter(&gpu, false);
+        let mut frames = FrameLoop::new(0.0, Clock::Real, base_camera);
+        frames.target = choice.target_ms.map(FrameTarget::new).transpose()?;
+        let control = CameraControl::for_camera(&base_camera);
+
+        let egui_ctx = egui::Context::default();
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(gpu.max_texture_side() as usize),
+        );
+        let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
+        let present = Present::new(&gpu.device, format)?;
+        let watcher = match Watcher::new(&watch_dirs(&session.sources())) {
+            Ok(w) => Some(w),
+            Err(e) => {
+                eprintln!("glint: hot reload is off: {e}");
+                None
+            }
+        };
+        let mut panel = PanelState::new(choice.graphs.clone(), choice.profiles.clone(), choice.matched);
+        if options.graph.is_some() {
+            panel.active_profile = None;
+        }
+        Ok(Viewer {
+            window,
+            surface,
+            config,
+            gpu,
+            session,
+            frames,
+            egui_ctx,
+            egui_state,
+            egui_renderer,
+            present,
+            control,
+            mouse: Mouse::default(),
+            watcher,
+            queue: VecDeque::new(),
+            job: None,
+            overlay: None,
+            last_reload: None,
+            panel,
+            options,
+            presented: 0,
+            fps: 0.0,
+            last_frame: Instant::now(),
+            screenshot_requested: false,
+            viewport: Rect { x: 0.0, y: 0.0, w: 0.0, h: 0.0 },
+            done: false,
+        })
+    }
+
+    pub fn on_event(&mut self, event: &WindowEvent) {
+        let response = self.egui_state.on_window_event(&self.window, event);
+        match event {
+            WindowEvent::Resized(size) => {
+                self.config.width = size.width.max(1);
+                self.config.height = size.height.max(1);
+                self.surface.configure(&self.gpu.device, &self.config);
+            }
+            WindowEvent::KeyboardInput { event, .. } if !response.consumed => {
+                let down = event.state == ElementState::Pressed;
+                let PhysicalKey::Code(code) = event.physical_key else { return };
+                let keys = &mut self.control.keys;
+                match code {
+                    KeyCode::KeyW => keys.forward = down,
+                    KeyCode::KeyS => keys.back = down,
+                    KeyCode::KeyA => keys.left = down,
+                    KeyCode::KeyD => keys.right = down,
+                    KeyCode::KeyE => keys.up = down,
+                    KeyCode::KeyQ => keys.down = down,
+                    KeyCode::KeyP if down && !event.repeat => self.frames.paused = !self.frames.paused,
+                    KeyCode::F12 if down && !event.repeat => self.screenshot_requested = true,
+                    _ => {}
+                }
+            }
+            WindowEvent::MouseInput { state, button, .. } => {
+                let down = *state == ElementState::Pressed;
+                if down && self.mouse.over_ui {
+                    return;
+                }
+                match button {
+                    MouseButton::Left => self.mouse.left = down,
+                    MouseButton::Right => self.mouse.right = down,
+                    _ => {}
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let (x, y) = (position.x, position.y);
+                if let Some((lx, ly)) = self.mouse.last {
+                    let (dx, dy) = ((x - lx) as f32, (y - ly) as f32);
+                    let cam = &mut self.session.scene.scene.camera;
+                    if self.mouse.right {
+                        camera::look(cam, dx, dy);
+                    } else if self.mouse.left {
+                        camera::orbit(cam, dx, dy);
+                    }
+                }
+                self.mouse.last = Some((x, y));
+            }
+            WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
+                let notches = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => *y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                self.control.wheel(notches);
+            }
+            _ => {}
+        }
+    }
+
+    /// Applies a panel or key action through the session's calls.
+    fn apply(&mut self, action: Action) {
+        let result = match action {
+            Action::SetParam { pass, name, value } => self.session.set_param(&pass, &name, value).map(|_| None),
+            Action::SetEnabled { pass, enabled } => self.session.set_enabled(&pass, enabled).map(Some),
+            Action::SetGraph(path) => {
+                self.panel.active_profile = None;
+                self.session.set_graph(&path).map(Some)
+            }
+            Action::SetProfile(i) => self.switch_profile(i).map(Some),
+            Action::Pause(p) => {
+                self.frames.paused = p;
+                Ok(None)
+            }
+            Action::Profile(on) => {
+                self.session.timing = Timing::for_adapter(&self.gpu, on);
+                self.frames.stats.last.clear();
+                Ok(None)
+            }
+            Action::Screenshot => {
+                self.screenshot_requested = true;
+                Ok(None)
+            }
+        };
+        match result {
+            Ok(Some(report)) => {
+                self.overlay = None;
+                self.last_reload = Some(format!("{} passes rebuilt in {:.0} ms", report.rebuilt.len(), report.ms));
+            }
+            Ok(None) => {}
+            Err(e) => self.show_error(e.to_string()),
+        }
+    }
+
+    fn switch_profile(&mut self, i: usize) -> Result<crate::session::ReloadReport, UserError> {
+        let p = self.panel.profiles.get(i).cloned().ok_or_else(|| UserError::new("no such profile"))?;
+        let graph = crate::machines::profile_graph(&p);
+        let report = self.session.set_graph(&graph)?;
+        let scaled = crate::machines::scale_size(self.options.size, p.resolution_scale);
+        if scaled != self.session.size {
+            self.session.resize(scaled)?;
+        }
+        for s in crate::machines::param_sets(&p)? {
+            self.session.set_param(&s.pass, &s.param, s.value)?;
+        }
+        self.frames.target = Some(FrameTarget::new(f64::from(p.target_ms))?);
+        self.panel.active_profile = Some(i);
+        Ok(report)
+    }
+
+    fn show_error(&mut self, message: String) {
+        if self.overlay.as_deref() != Some(message.as_str()) {
+            eprintln!("error: {message}");
+        }
+        self.overlay = Some(message);
+    }
+
+    /// Starts queued rebuilds on a worker thread and commits finished ones
+    /// at this frame boundary.
+    fn poll_reload(&mut self) {
+        if let Some(w) = &mut self.watcher {
+            let (changed, errors) = w.changed(Duration::ZERO);
+            for e in errors {
+                eprintln!("glint: file watcher: {e}");
+            }
+            if !changed.is_empty() {
+                for kind in classify(&self.session.sources(), &changed) {
+                    if !self.queue.contains(&kind) {
+                        self.queue.push_back(kind);
+                    }
+                }
+            }
+        }
+        if let Some(job) = &mut self.job {
+            job.frames += 1;
+            match job.result.try_recv() {
+                Err(TryRecvError::Empty) => return,
+                Err(TryRecvError::Disconnected) => {
+                    let what = job.what.clone();
+                    self.job = None;
+                    self.show_error(format!("{what}: the rebuild stopped without a result"));
+                }
+                Ok(result) => {
+                    let Some(job) = self.job.take() else { return };
+                    match result.and_then(|r| self.session.commit(r)) {
+                        Ok(report) => {
+                            let line = format!(
+                                "reloaded {}: {} passes rebuilt in {:.0} ms ({} frames presented meanwhile)",
+                                job.what,
+                                report.rebuilt.len(),
+                                job.started.elapsed().as_secs_f64() * 1e3,
+                                job.frames
+                            );
+                            println!("{line}");
+                            self.last_reload = Some(line);
+                            self.overlay = None;
+                        }
+                        Err(e) => self.show_error(format!("{e} (keeping the last good {})", job.kind)),
+                    }
+                }
+            }
+        }
+        if self.job.is_none() {
+            if let Some(kind) = self.queue.pop_front() {
+                let what = match &kind {
+                    RebuildKind::Shaders(f) => f.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
+                    RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) | RebuildKind::Scene(p) => p.display().to_string(),
+                    RebuildKind::Edits => "graph edits".into(),
+                };
+                let job = self.session.job(kind);
+                let k = job.kind().what();
+                let (tx, rx) = channel();
+                std::thread::spawn(move || {
+                    let _ = tx.send(job.run());
+                });
+                self.job = Some(Job { what, kind: k, result: rx, started: Instant::now(), frames: 0 });
+            }
+        }
+    }
+
+    /// One frame: reload, camera, render, UI, present.
+    pub fn redraw(&mut self) {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_frame).as_secs_f32();
+        self.last_frame = now;
+        self.fps = if dt > 0.0 { 0.9 * self.fps + 0.1 / f64::from(dt) } else { self.fps };
+        self.poll_reload();
+        self.control.fly(&mut self.session.scene.scene.camera, dt.min(0.25));
+        self.frames.step(&mut self.session);
+        if let Some(e) = self.gpu.uncaptured.lock().ok().and_then(|mut l| l.pop()) {
+            self.show_error(format!("GPU error: {e}"));
+        }
+
+        let raw = self.egui_state.take_egui_input(&self.window);
+        let mut actions = Vec::new();
+        let mut central = egui::Rect::NOTHING;
+        let rebuilding = self.job.as_ref().map(|j| j.what.clone());
+        let input = PanelInput {
+            frames: &self.frames,
+            fps: self.fps,
+            rebuilding: rebuilding.as_deref(),
+            frames_during_rebuild: self.job.as_ref().map_or(0, |j| j.frames),
+            last_reload: self.last_reload.as_deref(),
+        };
+        let (session, panel, overlay) = (&self.session, &mut self.panel, &self.overlay);
+        let output = self.egui_ctx.run_ui(raw, |ui| {
+            egui::Panel::left("panels").resizable(false).exact_size(PANEL_WIDTH).show(ui, |ui| {
+                actions = panels::draw(ui, session, &input, panel);
+            });
+            egui::CentralPanel::default().frame(egui::Frame::NONE).show(ui, |ui| {
+                central = ui.max_rect();
+                if let Some(e) = overlay {
+                    egui::Frame::new().fill(egui::Color32::from_black_alpha(200)).inner_margin(8.0).show(ui, |ui| {
+                        ui.label(egui::RichText::new(e).color(egui::Color32::from_rgb(255, 120, 100)).monospace());
+                    });
+                }
+            });
+        });
+        self.mouse.over_ui = self.egui_ctx.egui_wants_pointer_input();
+        self.egui_state.handle_platform_output(&self.window, output.platform_output);
+        let kept_before = self.panel.resource.clone();
+        for a in actions {
+            self.apply(a);
+        }
+        if self.panel.resource != kept_before {
+            let keep = self.panel.resource.iter().cloned().collect();
+            if let Err(e) = self.session.set_kept(keep) {
+                self.show_error(e.to_string());
+            }
+        }
+        let ppp = output.pixels_per_point;
+        let jobs = self.egui_ctx.tessellate(output.shapes, ppp);
+        self.viewport = viewport_rect(central, ppp, self.session.size);
+        let frame = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.surface.configure(&self.gpu.device, &self.config);
+                return;
+            }
+            _ => return,
+        };
+        let target = frame.texture.create_view(&Default::default());
+        let device = &self.gpu.device;
+        let queue = &self.gpu.queue;
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("present") });
+        let shown = self.panel.resource.as_deref().and_then(|r| self.session.executor.resource_texture(r));
+        let (texture, format) = shown.unwrap_or((self.session.executor.output_texture(), self.session.executor.schedule.output_format));
+        self.present.draw(device, queue, &mut enc, &target, texture, format, self.viewport, self.panel.exposure, self.panel.channel);
+        for (id, deltas) in &output.textures_delta.set {
+            for delta in deltas {
+                self.egui_renderer.update_texture(device, queue, *id, delta);
+            }
+        }
+        let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [self.config.width, self.config.height], pixels_per_point: ppp };
+        let extra = self.egui_renderer.update_buffers(device, queue, &mut enc, &jobs, &screen);
+        {
+            let pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("egui"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
+        }
+        let capture = self.wants_screenshot().then(|| screenshot::record(device, &mut enc, &frame.texture));
+        queue.submit(extra.into_iter().chain([enc.finish()]));
+        self.window.pre_present_notify();
+        queue.present(frame);
+        for id in &output.textures_delta.free {
+            self.egui_renderer.free_texture(id);
+        }
+        self.presented += 1;
+        if let Some(capture) = capture {
+            self.save_screenshot(capture);
+        }
+    }
+
+    fn wants_screenshot(&self) -> bool {
+        self.screenshot_requested || self.options.frames.is_some_and(|n| self.presented + 1 >= u64::from(n))
+    }
+
+    fn save_screenshot(&mut self, capture: Option<screenshot::Capture>) {
+        self.screenshot_requested = false;
+        let last = self.options.frames.is_some_and(|n| self.presented >= u64::from(n));
+        let png = match (&self.options.screenshot, last) {
+            (Some(p), true) => p.clone(),
+            _ => PathBuf::from(format!("glint-{}.png", std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs()))),
+        };
+        let result = match capture {
+            Some(c) => screenshot::save(&self.gpu, c, self.config.format, &png, &self.session, self.viewport),
+            None => Err(UserError::new("this surface cannot be copied from (no COPY_SRC); no screenshot")),
+        };
+        match result {
+            Ok(line) => println!("{line}"),
+            Err(e) => self.show_error(e.to_string()),
+        }
+        if last {
+            self.done = true;
+        }
+    }
+}
+
+/// Where the render goes in the central area: at 1:1, centred, when it
+/// fits; else scaled down to fit, keeping its aspect.
+fn viewport_rect(central: egui::Rect, ppp: f32, size: (u32, u32)) -> Rect {
+    if !central.is_finite() || central.width() <= 0.0 {
+        return Rect { x: 0.0, y: 0.0, w: 0.0, h: 0.0 };
+    }
+    let (cx, cy) = ((central.min.x * ppp).round(), (central.min.y * ppp).round());
+    let (cw, ch) = ((central.width() * ppp).floor(), (central.height() * ppp).floor());
+    let (w, h) = (size.0 as f32, size.1 as f32);
+    let s = (cw / w).min(ch / h).min(1.0);
+    let (vw, vh) = ((w * s).floor(), (h * s).floor());
+    Rect { x: cx + ((cw - vw) / 2.0).floor(), y: cy + ((ch - vh) / 2.0).floor(), w: vw, h: vh }
+}

@@ -1,0 +1,159 @@
+//! The viewer's camera controls, as pure functions of input (unit-tested
+//! without a window).
+//!
+//! - Fly: W/A/S/D move along the view and right axes, Q/E down and up,
+//!   the mouse looks around while the right button is held; the wheel
+//!   scales the speed.
+//! - Orbit: dragging with the left button turns the camera about its
+//!   target (yaw about +y, pitch clamped short of the poles).
+//!
+//! The camera's `up` stays +y; the look direction never reaches it.
+
+use glam::{Quat, Vec3};
+
+use crate::scene::Camera;
+
+/// Radians of turn per pixel of mouse motion.
+const LOOK_PER_PIXEL: f32 = 0.004;
+/// Closest the view direction gets to straight up or down (radians).
+const POLE_MARGIN: f32 = 0.02;
+
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Keys {
+    pub forward: bool,
+    pub back: bool,
+    pub left: bool,
+    pub right: bool,
+    pub up: bool,
+    pub down: bool,
+}
+
+impl Keys {
+    pub fn any(&self) -> bool {
+        self.forward || self.back || self.left || self.right || self.up || self.down
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraControl {
+    /// Fly speed in scene units per second.
+    pub speed: f32,
+    pub keys: Keys,
+}
+
+impl CameraControl {
+    /// A speed that crosses the scene's camera-to-target distance in about
+    /// two seconds.
+    pub fn for_camera(c: &Camera) -> CameraControl {
+        let d = (c.target - c.position).length();
+        CameraControl { speed: if d.is_finite() && d > 0.0 { d * 0.5 } else { 1.0 }, keys: Keys::default() }
+    }
+
+    /// The wheel: each notch scales the speed by 1.2.
+    pub fn wheel(&mut self, notches: f32) {
+        if notches.is_finite() {
+            self.speed = (self.speed * 1.2f32.powf(notches)).clamp(1e-6, 1e9);
+        }
+    }
+
+    /// Moves the camera (and its target, so the view direction is kept)
+    /// for `dt` seconds of the held keys.
+    pub fn fly(&self, c: &mut Camera, dt: f32) -> bool {
+        if !self.keys.any() || dt.is_nan() || dt <= 0.0 {
+            return false;
+        }
+        let forward = (c.target - c.position).normalize_or(Vec3::NEG_Z);
+        let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
+        let k = |on: bool| if on { 1.0 } else { 0.0 };
+        let dir = forward * (k(self.keys.forward) - k(self.keys.back))
+            + right * (k(self.keys.right) - k(self.keys.left))
+            + Vec3::Y * (k(self.keys.up) - k(self.keys.down));
+        if dir == Vec3::ZERO {
+            return false;
+        }
+        let step = dir.normalize() * self.speed * dt;
+        c.position += step;
+        c.target += step;
+        true
+    }
+}
+
+/// Yaw about +y and pitch about the camera's right axis, applied to `v`,
+/// with the pitch stopped short of the poles.
+fn turn(v: Vec3, dx: f32, dy: f32) -> Vec3 {
+    let yaw = Quat::from_rotation_y(-dx * LOOK_PER_PIXEL);
+    let v = yaw * v;
+    let len = v.length();
+    let elevation = (v.y / len).clamp(-1.0, 1.0).asin();
+    let limit = std::f32::consts::FRAC_PI_2 - POLE_MARGIN;
+    let new_elevation = (elevation - dy * LOOK_PER_PIXEL).clamp(-limit, limit);
+    let right = v.cross(Vec3::Y).normalize_or(Vec3::X);
+    Quat::from_axis_angle(right, new_elevation - elevation) * v
+}
+
+/// Mouse look (fly mode): turns the view direction about the camera.
+pub fn look(c: &mut Camera, dx: f32, dy: f32) {
+    let v = c.target - c.position;
+    if v.length_squared() > 0.0 && dx.is_finite() && dy.is_finite() {
+        c.target = c.position + turn(v, dx, dy);
+    }
+}
+
+/// Orbit drag: turns the camera position about the target.
+pub fn orbit(c: &mut Camera, dx: f32, dy: f32) {
+    let v = c.position - c.target;
+    if v.length_squared() > 0.0 && dx.is_finite() && dy.is_finite() {
+        c.position = c.target + turn(v, dx, -dy);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cam() -> Camera {
+        Camera { position: Vec3::new(0.0, 0.0, 3.0), target: Vec3::ZERO, up: Vec3::Y, vfov_deg: 40.0 }
+    }
+
+    #[test]
+    fn fly_moves_position_and_target_together() {
+        let mut c = cam();
+        let mut ctl = CameraControl::for_camera(&c);
+        assert_eq!(ctl.speed, 1.5);
+        ctl.keys.forward = true;
+        assert!(ctl.fly(&mut c, 1.0));
+        assert!((c.position - Vec3::new(0.0, 0.0, 1.5)).length() < 1e-6);
+        assert!((c.target - Vec3::new(0.0, 0.0, -1.5)).length() < 1e-6);
+        ctl.keys = Keys { right: true, ..Keys::default() };
+        ctl.fly(&mut c, 2.0);
+        assert!((c.position.x - 3.0).abs() < 1e-5, "{:?}", c.position);
+        assert!(!CameraControl::for_camera(&c).fly(&mut c, 1.0), "no key, no motion");
+    }
+
+    #[test]
+    fn orbit_keeps_distance_and_never_reaches_the_pole() {
+        let mut c = cam();
+        orbit(&mut c, 400.0, 0.0);
+        assert!((c.position.length() - 3.0).abs() < 1e-5);
+        assert!(c.position.x.abs() > 1.0, "yawed: {:?}", c.position);
+        for _ in 0..100 {
+            orbit(&mut c, 0.0, 500.0);
+        }
+        let dir = (c.position - c.target).normalize();
+        assert!(dir.y.abs() < 1.0 - 1e-5, "reached the pole: {dir:?}");
+        assert!((c.position.length() - 3.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn look_turns_the_target_about_the_position() {
+        let mut c = cam();
+        look(&mut c, 0.0, -100.0);
+        assert!(c.target.y > 0.0, "moving the mouse up looks up: {:?}", c.target);
+        assert!(((c.target - c.position).length() - 3.0).abs() < 1e-5);
+        look(&mut c, f32::NAN, 1.0);
+        assert!(c.target.is_finite());
+        let mut ctl = CameraControl::for_camera(&c);
+        ctl.wheel(1.0);
+        assert!((ctl.speed - 1.8).abs() < 1e-5);
+    }
+}

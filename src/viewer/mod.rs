@@ -1,0 +1,97 @@
+//! `glint view`: a winit window with the graph output through a present
+//! pass, egui panels (schedule, params, resources, frame time, graphs and
+//! machine profiles, stats, an error overlay), fly and orbit cameras, and
+//! hot reload built off the presenting thread (docs/ARCHITECTURE.md).
+
+mod app;
+pub mod camera;
+pub mod panels;
+pub mod present;
+mod screenshot;
+pub mod ui_hints;
+
+use std::path::PathBuf;
+
+use winit::application::ApplicationHandler;
+use winit::event::WindowEvent;
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::window::WindowId;
+
+use crate::error::UserError;
+use crate::scene::Scene;
+use app::Viewer;
+
+#[derive(Debug, Clone)]
+pub struct ViewOptions {
+    pub scene: PathBuf,
+    pub graph: Option<PathBuf>,
+    /// Render size (before a machine profile's resolution scale).
+    pub size: (u32, u32),
+    pub seed: u32,
+    /// Render this many frames, write the screenshot and exit.
+    pub frames: Option<u32>,
+    pub screenshot: Option<PathBuf>,
+}
+
+struct App {
+    options: ViewOptions,
+    scene: Option<Scene>,
+    viewer: Option<Viewer>,
+    result: Result<(), UserError>,
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(scene) = self.scene.take() else { return };
+        match Viewer::new(event_loop, self.options.clone(), scene) {
+            Ok(v) => {
+                v.window.request_redraw();
+                self.viewer = Some(v);
+            }
+            Err(e) => {
+                self.result = Err(e);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(v) = &mut self.viewer else { return };
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::RedrawRequested => {
+                v.redraw();
+                if v.done {
+                    event_loop.exit();
+                }
+            }
+            other => v.on_event(&other),
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        // Render continuously: accumulation and moving lights need frames.
+        if let Some(v) = &self.viewer {
+            v.window.request_redraw();
+        }
+    }
+}
+
+/// Opens the window and runs until it is closed (or, with `frames`, until
+/// the screenshot is written). Start-up errors (scene, graph, shaders, no
+/// display) are returned before or instead of a window.
+pub fn run(options: ViewOptions) -> Result<(), UserError> {
+    let scene = crate::scene::load(&options.scene)?;
+    if options.frames == Some(0) {
+        return Err(UserError::new("--frames 0 shows nothing; give at least 1"));
+    }
+    let event_loop = EventLoop::new().map_err(|e| {
+        UserError::new(format!(
+            "cannot open a window: {e}. `glint view` needs a display (X11 or Wayland); on a machine without one, run it under `xvfb-run -a`"
+        ))
+    })?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App { options, scene: Some(scene), viewer: None, result: Ok(()) };
+    event_loop.run_app(&mut app).map_err(|e| UserError::new(format!("the window's event loop failed: {e}")))?;
+    app.result
+}

@@ -1,0 +1,315 @@
+//! The viewer's egui panels. They read the session and return `Action`s;
+//! the viewer applies them through the same session calls the tests use
+//! (`set_param`, `set_enabled`, `set_graph`...), so a click and a test do
+//! the same thing.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use egui::{Color32, RichText, Ui};
+
+use crate::graph::desc::ParamValue;
+use crate::graph::executor::Timing;
+use crate::graph::schedule::CullReason;
+use crate::machines::Profile;
+use crate::session::frame_loop::FrameLoop;
+use crate::session::Session;
+use crate::shader::{ParamMember, ScalarType};
+use crate::viewer::present::Channel;
+use crate::viewer::ui_hints::{params_hints, Hint};
+
+/// What the user asked for this frame.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    SetParam { pass: String, name: String, value: ParamValue },
+    SetEnabled { pass: String, enabled: bool },
+    SetGraph(PathBuf),
+    SetProfile(usize),
+    Pause(bool),
+    /// Per-pass wall times on CPU adapters (submits passes one by one).
+    Profile(bool),
+    Screenshot,
+}
+
+/// Panel state that lives across frames.
+#[derive(Debug, Clone)]
+pub struct PanelState {
+    /// The resource shown in the viewport (None: the graph's output).
+    pub resource: Option<String>,
+    pub exposure: f32,
+    pub channel: Channel,
+    /// Graph files offered in the selector.
+    pub graphs: Vec<PathBuf>,
+    pub profiles: Vec<Profile>,
+    /// The profile the adapter matched, and the one running.
+    pub matched_profile: Option<usize>,
+    pub active_profile: Option<usize>,
+    /// Hints per shader file, read once per shader source.
+    hints: BTreeMap<String, (u64, BTreeMap<String, Hint>)>,
+}
+
+impl PanelState {
+    pub fn new(graphs: Vec<PathBuf>, profiles: Vec<Profile>, matched_profile: Option<usize>) -> PanelState {
+        PanelState {
+            resource: None,
+            exposure: 0.0,
+            channel: Channel::Rgb,
+            graphs,
+            profiles,
+            matched_profile,
+            active_profile: matched_profile,
+            hints: BTreeMap::new(),
+        }
+    }
+
+    fn hints_for(&mut self, shader: &str, source: &str) -> &BTreeMap<String, Hint> {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        source.hash(&mut h);
+        let key = h.finish();
+        let entry = self.hints.entry(shader.to_string()).or_insert_with(|| (key.wrapping_add(1), BTreeMap::new()));
+        if entry.0 != key {
+            *entry = (key, params_hints(source));
+        }
+        &entry.1
+    }
+}
+
+/// Everything the panels show besides the session.
+pub struct PanelInput<'a> {
+    pub frames: &'a FrameLoop,
+    pub fps: f64,
+    pub rebuilding: Option<&'a str>,
+    pub frames_during_rebuild: u64,
+    pub last_reload: Option<&'a str>,
+}
+
+pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelState) -> Vec<Action> {
+    let mut actions = Vec::new();
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        stats(ui, session, input, &mut actions);
+        graphs(ui, session, state, &mut actions);
+        schedule(ui, session, input, &mut actions);
+        params(ui, session, state, &mut actions);
+        resources(ui, session, state);
+        frame_time(ui, input);
+    });
+    actions
+}
+
+fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Vec<Action>) {
+    let sched = &session.graph.schedule;
+    ui.heading("glint");
+    ui.label(format!("{:.1} FPS, {}x{}, graph `{}`", input.fps, session.size.0, session.size.1, sched.name));
+    ui.label(format!("frames accumulated: {}", session.accumulated()));
+    ui.label(format!("scene time {:.2} s{}", input.frames.time, if input.frames.paused { " (paused)" } else { "" }));
+    if sched.features.has(crate::scene::Feature::Specular) {
+        if let Some(share) = input.frames.stats.last.get("reflections") {
+            ui.label(format!("reflections: {share:.2} ms"));
+        }
+    }
+    if let Some(what) = input.rebuilding {
+        ui.label(RichText::new(format!("rebuilding {what}... ({} frames presented meanwhile)", input.frames_during_rebuild)).color(Color32::YELLOW));
+    } else if let Some(r) = input.last_reload {
+        ui.label(RichText::new(r).weak());
+    }
+    ui.horizontal(|ui| {
+        let paused = input.frames.paused;
+        if ui.button(if paused { "resume (P)" } else { "pause (P)" }).clicked() {
+            actions.push(Action::Pause(!paused));
+        }
+        if ui.button("screenshot (F12)").clicked() {
+            actions.push(Action::Screenshot);
+        }
+    });
+    if session.timing != Timing::Gpu {
+        let mut on = session.timing == Timing::WallPerPass;
+        if ui.checkbox(&mut on, "per-pass wall time (slower: passes submitted one by one)").changed() {
+            actions.push(Action::Profile(on));
+        }
+    }
+    ui.label(RichText::new("fly: WASD, Q/E, right-drag looks, wheel = speed; orbit: left-drag").weak());
+}
+
+fn graphs(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("graph").default_open(true).show(ui, |ui| {
+        let running = std::fs::canonicalize(&session.graph.path).unwrap_or_else(|_| session.graph.path.clone());
+        let name = |p: &PathBuf| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        egui::ComboBox::from_id_salt("graph").selected_text(name(&session.graph.path)).show_ui(ui, |ui| {
+            for g in &state.graphs {
+                let is = std::fs::canonicalize(g).is_ok_and(|c| c == running);
+                if ui.selectable_label(is, name(g)).clicked() && !is {
+                    actions.push(Action::SetGraph(g.clone()));
+                }
+            }
+        });
+        if !state.profiles.is_empty() {
+            let label = |i: Option<usize>| i.and_then(|i| state.profiles.get(i)).map_or("(none)".to_string(), |p| p.name.clone());
+            egui::ComboBox::from_id_salt("profile").selected_text(format!("profile: {}", label(state.active_profile))).show_ui(ui, |ui| {
+                for (i, p) in state.profiles.iter().enumerate() {
+                    let mark = if Some(i) == state.matched_profile { " (this adapter)" } else { "" };
+                    if ui.selectable_label(state.active_profile == Some(i), format!("{}{mark}: {}", p.name, p.graph)).clicked() {
+                        actions.push(Action::SetProfile(i));
+                    }
+                }
+            });
+        }
+    });
+}
+
+fn schedule(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("schedule").default_open(true).show(ui, |ui| {
+        let sched = &session.graph.schedule;
+        for pass in &session.graph.desc.passes {
+            let name = &pass.name;
+            let disabled = session.disabled().iter().any(|d| d == name);
+            let culled = sched.culled.iter().find(|c| &c.name == name);
+            ui.horizontal(|ui| {
+                let mut on = !disabled;
+                if ui.checkbox(&mut on, "").changed() {
+                    actions.push(Action::SetEnabled { pass: name.clone(), enabled: on });
+                }
+                match (disabled, culled) {
+                    (true, _) => {
+                        ui.label(RichText::new(format!("{name}: off")).weak());
+                    }
+                    (false, Some(c)) => {
+                        let why = match &c.reason {
+                            CullReason::Requires(f) => format!("culled: the scene has no {f:?}"),
+                            CullReason::Unreachable => "culled: feeds nothing".to_string(),
+                        };
+                        ui.label(RichText::new(format!("{name}: {why}")).color(Color32::GRAY));
+                    }
+                    (false, None) => {
+                        let ms = input.frames.stats.last.get(name.as_str());
+                        ui.label(match ms {
+                            Some(ms) => format!("{name}: {ms:.2} ms"),
+                            None => format!("{name}: (not timed)"),
+                        });
+                    }
+                }
+            });
+        }
+    });
+}
+
+fn params(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("params").default_open(false).show(ui, |ui| {
+        for sp in &session.executor.schedule.passes {
+            let Some(p) = &sp.params else { continue };
+            let source = session.graph.shaders.get(&sp.shader).map(|s| s.source.text.as_str()).unwrap_or("");
+            let hints = state.hints_for(&sp.shader, source).clone();
+            ui.label(RichText::new(&sp.name).strong());
+            for m in &p.layout.members {
+                let Some(value) = p.values.get(&m.name) else { continue };
+                if let Some(v) = param_widget(ui, m, value, hints.get(&m.name)) {
+                    actions.push(Action::SetParam { pass: sp.name.clone(), name: m.name.clone(), value: v });
+                }
+            }
+        }
+    });
+}
+
+/// One widget for a param member; the new value when the user changed it.
+fn param_widget(ui: &mut Ui, m: &ParamMember, value: &ParamValue, hint: Option<&Hint>) -> Option<ParamValue> {
+    let label = hint.and_then(|h| h.label.clone()).unwrap_or_else(|| m.name.clone());
+    let scalars: Vec<f64> = match value {
+        ParamValue::Vector(v) => v.clone(),
+        ParamValue::Int(i) => vec![*i as f64],
+        ParamValue::Float(f) => vec![*f],
+        ParamValue::Bool(b) => vec![f64::from(u8::from(*b))],
+    };
+    let int = m.scalar != ScalarType::F32;
+    let mut out = None;
+    ui.horizontal(|ui| {
+        if m.components == 3 && hint.is_some_and(|h| h.color) {
+            let mut rgb = [scalars[0] as f32, scalars[1] as f32, scalars[2] as f32];
+            if ui.color_edit_button_rgb(&mut rgb).changed() {
+                out = Some(ParamValue::Vector(rgb.iter().map(|&c| f64::from(c)).collect()));
+            }
+            ui.label(&label);
+            return;
+        }
+        if m.components == 1 && hint.is_some_and(|h| h.checkbox) {
+            let mut on = scalars[0] != 0.0;
+            if ui.checkbox(&mut on, label.as_str()).changed() {
+                out = Some(ParamValue::Int(i64::from(on)));
+            }
+            return;
+        }
+        let mut v = scalars.clone();
+        let mut changed = false;
+        for x in v.iter_mut() {
+            let r = match hint.and_then(|h| h.range) {
+                Some((lo, hi)) => ui.add(egui::Slider::new(x, lo..=hi).logarithmic(hint.is_some_and(|h| h.log)).integer_if(int)),
+                None => ui.add(egui::DragValue::new(x).speed(if int { 1.0 } else { 0.01 }).range(if m.scalar == ScalarType::U32 { 0.0 } else { f64::MIN }..=f64::MAX)),
+            };
+            changed |= r.changed();
+        }
+        ui.label(&label);
+        if changed {
+            out = Some(match (v.len(), int) {
+                (1, true) => ParamValue::Int(v[0].round() as i64),
+                (1, false) => ParamValue::Float(v[0]),
+                _ => ParamValue::Vector(if int { v.iter().map(|x| x.round()).collect() } else { v }),
+            });
+        }
+    });
+    out
+}
+
+trait IntegerIf {
+    fn integer_if(self, int: bool) -> Self;
+}
+
+impl IntegerIf for egui::Slider<'_> {
+    fn integer_if(self, int: bool) -> Self {
+        if int { self.integer() } else { self }
+    }
+}
+
+fn resources(ui: &mut Ui, session: &Session, state: &mut PanelState) {
+    egui::CollapsingHeader::new("resources").default_open(false).show(ui, |ui| {
+        let sched = &session.executor.schedule;
+        let mut names: Vec<&str> = sched.versions.iter().map(|v| v.resource.as_str()).collect();
+        names.sort();
+        names.dedup();
+        let shown = state.resource.clone().unwrap_or_else(|| format!("{} (output)", sched.output_resource));
+        egui::ComboBox::from_id_salt("resource").selected_text(shown).show_ui(ui, |ui| {
+            if ui.selectable_label(state.resource.is_none(), "output").clicked() {
+                state.resource = None;
+            }
+            for n in names {
+                if ui.selectable_label(state.resource.as_deref() == Some(n), n).clicked() {
+                    state.resource = Some(n.to_string());
+                }
+            }
+        });
+        ui.add(egui::Slider::new(&mut state.exposure, -10.0..=10.0).text("exposure (stops)"));
+        ui.horizontal(|ui| {
+            for c in Channel::ALL {
+                ui.selectable_value(&mut state.channel, c, c.label());
+            }
+        });
+        ui.label(RichText::new("transient textures are pooled: a resource may show what a later pass wrote into its texture").weak());
+    });
+}
+
+fn frame_time(ui: &mut Ui, input: &PanelInput) {
+    egui::CollapsingHeader::new("frame time").default_open(true).show(ui, |ui| {
+        let stats = &input.frames.stats;
+        let tail = |v: &[f64]| -> Vec<[f64; 2]> {
+            let start = v.len().saturating_sub(300);
+            v[start..].iter().enumerate().map(|(i, y)| [(start + i) as f64, *y]).collect()
+        };
+        let ms = tail(&stats.frame_ms);
+        let thresholds: Vec<f64> = stats.thresholds.iter().map(|t| f64::from(*t)).collect();
+        let th = tail(&thresholds);
+        egui_plot::Plot::new("frame_ms").height(110.0).include_y(0.0).allow_zoom(false).allow_drag(false).allow_scroll(false).show(ui, |p| {
+            p.line(egui_plot::Line::new("frame ms", ms));
+        });
+        egui_plot::Plot::new("threshold").height(80.0).include_y(0.0).include_y(1.0).allow_zoom(false).allow_drag(false).allow_scroll(false).show(ui, |p| {
+            p.line(egui_plot::Line::new("mask threshold (PID)", th));
+        });
+    });
+}
