@@ -28,3 +28,10 @@ ensure_cxx() {
         apt_install g++
     fi
 }
+
+ensure_xvfb() {
+    # The viewer's test runs a window under Xvfb.
+    if ! command -v xvfb-run >/dev/null 2>&1; then
+        apt_install xvfb
+    fi
+}

@@ -313,6 +313,7 @@ impl Session {
             cache: self.pipelines.clone(),
             camera: self.scene.scene.camera,
             engine_constants: self.scene.engine_constants(),
+            preset: Vec::new(),
         }
     }
 
@@ -360,6 +361,21 @@ impl Session {
     /// Runs another graph (params set for the old one are dropped).
     pub fn set_graph(&mut self, path: &Path) -> Result<ReloadReport, UserError> {
         self.run_job(RebuildKind::SwitchGraph(path.to_path_buf()))
+    }
+
+    /// Runs another graph at another size with these params set (a machine
+    /// profile), in one rebuild: all of it or nothing.
+    pub fn switch_profile(&mut self, path: &Path, params: Vec<ParamSet>, size: (u32, u32)) -> Result<ReloadReport, UserError> {
+        check_size(&self.gpu, size)?;
+        let mut job = self.job(RebuildKind::SwitchGraph(path.to_path_buf()));
+        job.preset = params;
+        let old = self.size;
+        self.size = size;
+        let result = job.run().and_then(|r| self.commit(r));
+        if result.is_err() {
+            self.size = old;
+        }
+        result
     }
 
     /// Reloads the scene file (and its meshes), keeping the camera.

@@ -61,6 +61,8 @@ pub struct RebuildJob {
     pub(super) camera: Camera,
     /// The current scene's engine constants (a scene rebuild uses its own).
     pub(super) engine_constants: Vec<(&'static str, f64)>,
+    /// Params a graph switch starts with (a machine profile's overrides).
+    pub(super) preset: Vec<ParamSet>,
 }
 
 /// A finished rebuild, waiting for `Session::commit`.
@@ -110,7 +112,7 @@ impl RebuildJob {
     /// Runs the rebuild. Nothing of the session is touched.
     pub fn run(self) -> Result<Rebuild, UserError> {
         let started = Instant::now();
-        let RebuildJob { gpu, kind, graph: current, shader_dir, mut options, cache, camera, engine_constants } = self;
+        let RebuildJob { gpu, kind, graph: current, shader_dir, mut options, cache, camera, engine_constants, preset } = self;
         let mut scene = None;
         let (desc, shaders, path) = match &kind {
             RebuildKind::Shaders(files) => {
@@ -126,7 +128,7 @@ impl RebuildJob {
                 let desc = FrameGraph::load(path)?;
                 let shaders = graph::load_shaders(&desc, &shader_dir)?;
                 if matches!(kind, RebuildKind::SwitchGraph(_)) {
-                    options.edits.set.clear();
+                    options.edits.set = preset;
                     options.edits.skip.clear();
                     options.edits.stop_after = None;
                     options.output = None;

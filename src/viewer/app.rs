@@ -19,6 +19,7 @@ use crate::reload::{classify, watch_dirs, Watcher};
 use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
 use crate::session::rebuild::{Rebuild, RebuildKind};
 use crate::session::{Session, SessionOptions};
+use crate::viewer::actions;
 use crate::viewer::camera::{self, CameraControl};
 use crate::viewer::panels::{self, Action, PanelInput, PanelState};
 use crate::viewer::present::{Present, Rect};
@@ -27,6 +28,9 @@ use crate::viewer::ViewOptions;
 
 /// Width of the side panel in logical pixels.
 pub const PANEL_WIDTH: f32 = 340.0;
+
+/// Scene seconds per frame in a scripted run (`--frames`).
+pub const SCRIPTED_DT: f32 = 1.0 / 30.0;
 
 struct Job {
     what: String,
@@ -69,6 +73,9 @@ pub struct Viewer {
     fps: f64,
     last_frame: Instant,
     screenshot_requested: bool,
+    /// A reload line printed once the first frame with the new state has
+    /// been presented (what "save to new image" latency is measured to).
+    announce: Option<String>,
     /// The viewport rectangle of the last frame (physical pixels).
     viewport: Rect,
     pub done: bool,
@@ -121,7 +128,10 @@ impl Viewer {
         let base_camera = scene.camera;
         let mut session = Session::new(&gpu, scene, &choice.graph, session_options)?;
         session.timing = Timing::for_adapter(&gpu, false);
-        let mut frames = FrameLoop::new(0.0, Clock::Real, base_camera);
+        // A scripted run (--frames) steps scene time like `glint render
+        // --dt` does, so its frames are reproducible; live, the wall clock.
+        let clock = if options.frames.is_some() { Clock::Fixed { dt: SCRIPTED_DT } } else { Clock::Real };
+        let mut frames = FrameLoop::new(0.0, clock, base_camera);
         frames.target = choice.target_ms.map(FrameTarget::new).transpose()?;
         let control = CameraControl::for_camera(&base_camera);
 
@@ -136,8 +146,13 @@ impl Viewer {
         );
         let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
         let present = Present::new(&gpu.device, format)?;
-        let watcher = match Watcher::new(&watch_dirs(&session.sources())) {
-            Ok(w) => Some(w),
+        let dirs = watch_dirs(&session.sources());
+        let watcher = match Watcher::new(&dirs) {
+            Ok(w) => {
+                let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
+                println!("watching {} for changes", shown.join(", "));
+                Some(w)
+            }
             Err(e) => {
                 eprintln!("glint: hot reload is off: {e}");
                 None
@@ -171,6 +186,7 @@ impl Viewer {
             fps: 0.0,
             last_frame: Instant::now(),
             screenshot_requested: false,
+            announce: None,
             viewport: Rect { x: 0.0, y: 0.0, w: 0.0, h: 0.0 },
             done: false,
         })
@@ -237,52 +253,22 @@ impl Viewer {
 
     /// Applies a panel or key action through the session's calls.
     fn apply(&mut self, action: Action) {
-        let result = match action {
-            Action::SetParam { pass, name, value } => self.session.set_param(&pass, &name, value).map(|_| None),
-            Action::SetEnabled { pass, enabled } => self.session.set_enabled(&pass, enabled).map(Some),
-            Action::SetGraph(path) => {
-                self.panel.active_profile = None;
-                self.session.set_graph(&path).map(Some)
-            }
-            Action::SetProfile(i) => self.switch_profile(i).map(Some),
-            Action::Pause(p) => {
-                self.frames.paused = p;
-                Ok(None)
-            }
-            Action::Profile(on) => {
-                self.session.timing = Timing::for_adapter(&self.gpu, on);
-                self.frames.stats.last.clear();
-                Ok(None)
-            }
-            Action::Screenshot => {
-                self.screenshot_requested = true;
-                Ok(None)
-            }
-        };
-        match result {
+        match &action {
+            Action::Screenshot => self.screenshot_requested = true,
+            Action::SetGraph(_) => self.panel.active_profile = None,
+            _ => {}
+        }
+        match actions::apply(&mut self.session, &mut self.frames, &self.panel.profiles, self.options.size, &action) {
             Ok(Some(report)) => {
+                if let Action::SetProfile(i) = action {
+                    self.panel.active_profile = Some(i);
+                }
                 self.overlay = None;
                 self.last_reload = Some(format!("{} passes rebuilt in {:.0} ms", report.rebuilt.len(), report.ms));
             }
             Ok(None) => {}
             Err(e) => self.show_error(e.to_string()),
         }
-    }
-
-    fn switch_profile(&mut self, i: usize) -> Result<crate::session::ReloadReport, UserError> {
-        let p = self.panel.profiles.get(i).cloned().ok_or_else(|| UserError::new("no such profile"))?;
-        let graph = crate::machines::profile_graph(&p);
-        let report = self.session.set_graph(&graph)?;
-        let scaled = crate::machines::scale_size(self.options.size, p.resolution_scale);
-        if scaled != self.session.size {
-            self.session.resize(scaled)?;
-        }
-        for s in crate::machines::param_sets(&p)? {
-            self.session.set_param(&s.pass, &s.param, s.value)?;
-        }
-        self.frames.target = Some(FrameTarget::new(f64::from(p.target_ms))?);
-        self.panel.active_profile = Some(i);
-        Ok(report)
     }
 
     fn show_error(&mut self, message: String) {
@@ -328,7 +314,7 @@ impl Viewer {
                                 job.started.elapsed().as_secs_f64() * 1e3,
                                 job.frames
                             );
-                            println!("{line}");
+                            self.announce = Some(line.clone());
                             self.last_reload = Some(line);
                             self.overlay = None;
                         }
@@ -454,6 +440,13 @@ impl Viewer {
             self.egui_renderer.free_texture(id);
         }
         self.presented += 1;
+        if let Some(line) = self.announce.take() {
+            // The frame rendered after the swap was just presented.
+            use std::io::Write as _;
+            let mut out = std::io::stdout().lock();
+            let _ = writeln!(out, "{line}");
+            let _ = out.flush();
+        }
         if let Some(capture) = capture {
             self.save_screenshot(capture);
         }
@@ -468,7 +461,7 @@ impl Viewer {
         let last = self.options.frames.is_some_and(|n| self.presented >= u64::from(n));
         let png = match (&self.options.screenshot, last) {
             (Some(p), true) => p.clone(),
-            _ => PathBuf::from(format!("glint-{}.png", std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs()))),
+            _ => PathBuf::from(format!("glint-screenshot-{}.png", self.presented)),
         };
         let result = match capture {
             Some(c) => screenshot::save(&self.gpu, c, self.config.format, &png, &self.session, self.viewport),

@@ -3,6 +3,7 @@
 //! machine profiles, stats, an error overlay), fly and orbit cameras, and
 //! hot reload built off the presenting thread (docs/ARCHITECTURE.md).
 
+pub mod actions;
 mod app;
 pub mod camera;
 pub mod panels;

@@ -1,0 +1,142 @@
+//! The viewer: its panel actions go through the session calls the tests
+//! use (checked headless), and under Xvfb on lavapipe a scripted run's
+//! window shows what `glint render` renders for the same frames.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::*;
+use glint::graph::desc::ParamValue;
+use glint::graph::edit::{GraphEdits, ParamSet};
+use glint::graph::CompileOptions;
+use glint::image_io;
+use glint::machines::{self, Machines};
+use glint::metrics;
+use glint::session::frame_loop::{Clock, FrameLoop};
+use glint::session::{Session, SessionOptions};
+use glint::viewer::actions;
+use glint::viewer::panels::Action;
+
+const SIZE: (u32, u32) = (48, 48);
+
+fn session_with(gpu: &glint::gpu::Gpu, graph: &str, edits: GraphEdits) -> Session {
+    let options = SessionOptions { compile: CompileOptions { edits, ..Default::default() }, ..SessionOptions::new(SIZE) };
+    Session::new(gpu, load_scene("cornell.ron"), &repo().join("passes").join(graph), options).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn frames(s: &mut Session, n: u32) -> Vec<u32> {
+    for _ in 0..n {
+        s.frame(0.0);
+    }
+    s.read_output().unwrap_or_else(|e| panic!("{e}")).data.iter().flat_map(|p| p.map(f32::to_bits)).collect()
+}
+
+#[test]
+fn panel_actions_equal_command_line_edits() {
+    let Some(gpu) = gpu() else { return };
+    let mut clock = FrameLoop::new(0.0, Clock::Fixed { dt: 0.0 }, load_scene("cornell.ron").camera);
+
+    // A param slider equals --set.
+    let set = ParamSet { pass: "gbuffer".into(), param: "jitter".into(), value: ParamValue::Int(0) };
+    let mut with_set = session_with(gpu, "hybrid-point.ron", GraphEdits { set: vec![set], ..Default::default() });
+    let want = frames(&mut with_set, 3);
+    let mut live = session_with(gpu, "hybrid-point.ron", GraphEdits::default());
+    let before = frames(&mut live, 2);
+    let action = Action::SetParam { pass: "gbuffer".into(), name: "jitter".into(), value: ParamValue::Int(0) };
+    assert_eq!(actions::apply(&mut live, &mut clock, &[], SIZE, &action).map_err(|e| e.to_string()), Ok(None));
+    let got = frames(&mut live, 3);
+    assert_ne!(before, want, "the param should change the image");
+    assert!(got == want, "set_param differs from --set");
+
+    // A pass's checkbox equals --skip.
+    let mut skipped = session_with(gpu, "hybrid-point.ron", GraphEdits { skip: vec!["reflections".into()], ..Default::default() });
+    let want = frames(&mut skipped, 2);
+    let mut live = session_with(gpu, "hybrid-point.ron", GraphEdits::default());
+    frames(&mut live, 1);
+    let off = Action::SetEnabled { pass: "reflections".into(), enabled: false };
+    actions::apply(&mut live, &mut clock, &[], SIZE, &off).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!live.graph.schedule.passes.iter().any(|p| p.name == "reflections"));
+    assert!(frames(&mut live, 2) == want, "switching a pass off differs from --skip");
+    let on = Action::SetEnabled { pass: "reflections".into(), enabled: true };
+    actions::apply(&mut live, &mut clock, &[], SIZE, &on).unwrap_or_else(|e| panic!("{e}"));
+    assert!(live.graph.schedule.passes.iter().any(|p| p.name == "reflections"));
+
+    // A bad value is the error --set gives, and changes nothing.
+    let bad = Action::SetParam { pass: "gbuffer".into(), name: "jitter".into(), value: ParamValue::Float(0.5) };
+    let e = actions::apply(&mut live, &mut clock, &[], SIZE, &bad).unwrap_err();
+    assert!(e.to_string().contains("param `jitter` is U32"), "{e}");
+    assert_eq!(live.param("gbuffer", "jitter"), Some(&ParamValue::Int(1)));
+
+    // A machine profile: its graph, scaled size and target, in one rebuild.
+    let m = Machines::load(&repo().join("passes/machines.ron")).unwrap_or_else(|e| panic!("{e}"));
+    let cpu = m.profiles.iter().position(|p| p.name.starts_with("cpu")).expect("a cpu profile");
+    actions::apply(&mut live, &mut clock, &m.profiles, (64, 64), &Action::SetProfile(cpu)).unwrap_or_else(|e| panic!("{e}"));
+    let p = &m.profiles[cpu];
+    assert!(live.graph.path.ends_with(&p.graph));
+    assert_eq!(live.size, machines::scale_size((64, 64), p.resolution_scale));
+    assert_eq!(clock.target.as_ref().map(|t| t.target_ms), Some(f64::from(p.target_ms)));
+    frames(&mut live, 1);
+}
+
+/// `x,y WxH` from the viewer's screenshot line.
+fn viewport(line: &str) -> (u32, u32, u32, u32) {
+    let rest = line.split("viewport ").nth(1).unwrap_or_else(|| panic!("no viewport in `{line}`"));
+    let (xy, wh) = rest.trim().split_once(' ').expect("x,y WxH");
+    let (x, y) = xy.split_once(',').expect("x,y");
+    let (w, h) = wh.split_once('x').expect("WxH");
+    let n = |s: &str| s.trim().parse::<f32>().unwrap_or_else(|_| panic!("`{s}`")) as u32;
+    (n(x), n(y), n(w), n(h))
+}
+
+#[test]
+fn window_shows_what_render_renders() {
+    let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
+    if !has_xvfb {
+        assert!(std::env::var("CI").map_or(true, |v| v != "true"), "CI needs xvfb-run (tools/test installs it)");
+        eprintln!("skipping: no xvfb-run");
+        return;
+    }
+    let Some(_) = gpu() else { return };
+    let dir = scratch("viewer");
+    let shot = dir.join("view.png");
+    let glint = env!("CARGO_BIN_EXE_glint");
+    let (w, h) = (96, 64);
+    let size = format!("{w}x{h}");
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24", glint, "view", "scenes/moving-lights.ron", "--graph", "passes/hybrid.ron", "--size", &size, "--frames", "30", "--screenshot"])
+        .arg(&shot)
+        .current_dir(repo())
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .expect("run xvfb-run");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "glint view failed: {stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    let line = stdout.lines().find(|l| l.starts_with("screenshot")).unwrap_or_else(|| panic!("no screenshot line: {stdout}"));
+    let (x, y, vw, vh) = viewport(line);
+    assert_eq!((vw, vh), (w, h), "the render is shown at 1:1");
+    let window = image::open(&shot).unwrap_or_else(|e| panic!("{e}")).to_rgb8();
+    let crop = image::imageops::crop_imm(&window, x, y, w, h).to_image();
+    let cropped = dir.join("viewport.png");
+    crop.save(&cropped).expect("save crop");
+
+    // The same 30 frames, headless: scene time 0, 1/30, ... as the viewer's
+    // scripted clock steps it.
+    let rendered = dir.join("render.png");
+    let status = Command::new(glint)
+        .args(["render", "scenes/moving-lights.ron", "--graph", "passes/hybrid.ron", "--size", &size, "--frames", "30", "--dt", "0.033333335", "--out"])
+        .arg(&rendered)
+        .current_dir(repo())
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .expect("run glint render");
+    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    let a = image_io::load(&rendered).unwrap_or_else(|e| panic!("{e}"));
+    let b = image_io::load(&cropped).unwrap_or_else(|e| panic!("{e}"));
+    let (flip, _) = metrics::flip(&a, &b);
+    eprintln!("viewer viewport against glint render: FLIP mean {:.5}, p99 {:.5}", flip.mean, flip.p99);
+    assert!(flip.mean <= 0.01, "the window shows another image: FLIP mean {}", flip.mean);
+    // The EXR beside the screenshot is the graph output itself.
+    assert!(Path::new(&shot.with_extension("exr")).is_file());
+}
