@@ -320,7 +320,11 @@ impl Session {
     /// Swaps a finished rebuild in. The executor is made here (textures
     /// kept where their descriptors match, new bind groups); if that fails
     /// nothing changes. Accumulation restarts: the image changed.
-    pub fn commit(&mut self, r: Rebuild) -> Result<ReloadReport, UserError> {
+    pub fn commit(&mut self, mut r: Rebuild) -> Result<ReloadReport, UserError> {
+        if let Some(s) = &mut r.scene {
+            // The camera as it is now (it may have moved while the rebuild ran).
+            s.scene.camera = self.scene.scene.camera;
+        }
         let scene = r.scene.as_ref().unwrap_or(&self.scene);
         let frame_buffer = &self.frame_buffer;
         let executor = Executor::new(&self.gpu, &r.graph.schedule, &r.pipelines.per_pass, &|e| scene.binding(e, frame_buffer), self.size, Some(&self.executor))?;

@@ -50,7 +50,9 @@ impl RebuildKind {
     }
 }
 
-/// A rebuild ready to run on any thread.
+/// A rebuild ready to run on any thread. Cloning is cheap enough to keep
+/// one as a template (the viewer's reload thread starts its jobs from it).
+#[derive(Clone)]
 pub struct RebuildJob {
     pub(super) gpu: Gpu,
     pub(super) kind: RebuildKind,
@@ -107,6 +109,23 @@ fn matching_sets(sets: &[ParamSet], desc: &FrameGraph, shaders: &BTreeMap<String
 impl RebuildJob {
     pub fn kind(&self) -> &RebuildKind {
         &self.kind
+    }
+
+    /// The same job for another kind of change.
+    pub fn with_kind(mut self, kind: RebuildKind) -> RebuildJob {
+        self.kind = kind;
+        self
+    }
+
+    /// Takes in what a finished rebuild produced, so the next job starts
+    /// from it even before the session has committed it.
+    pub fn absorb(&mut self, r: &Rebuild) {
+        self.graph = r.graph.clone();
+        self.options = r.options.clone();
+        self.cache = r.pipelines.cache.clone();
+        if let Some(s) = &r.scene {
+            self.engine_constants = s.engine_constants();
+        }
     }
 
     /// Runs the rebuild. Nothing of the session is touched.

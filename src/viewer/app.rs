@@ -1,11 +1,9 @@
 //! The viewer's window and frame: winit events, the camera, the session's
 //! frame, hot reload off the presenting thread, the present pass and egui.
 
-use std::collections::VecDeque;
 use std::path::PathBuf;
-use std::sync::mpsc::{channel, Receiver, TryRecvError};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::ActiveEventLoop;
@@ -15,14 +13,13 @@ use winit::window::Window;
 use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
-use crate::reload::{classify, watch_dirs, Watcher};
 use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
-use crate::session::rebuild::{Rebuild, RebuildKind};
 use crate::session::{Session, SessionOptions};
 use crate::viewer::actions;
 use crate::viewer::camera::{self, CameraControl};
 use crate::viewer::panels::{self, Action, PanelInput, PanelState};
 use crate::viewer::present::{Present, Rect};
+use crate::viewer::reloader::Reloader;
 use crate::viewer::screenshot;
 use crate::viewer::ViewOptions;
 
@@ -31,14 +28,6 @@ pub const PANEL_WIDTH: f32 = 340.0;
 
 /// Scene seconds per frame in a scripted run (`--frames`).
 pub const SCRIPTED_DT: f32 = 1.0 / 30.0;
-
-struct Job {
-    what: String,
-    kind: &'static str,
-    result: Receiver<Result<Rebuild, UserError>>,
-    started: Instant,
-    frames: u64,
-}
 
 #[derive(Default)]
 struct Mouse {
@@ -61,9 +50,7 @@ pub struct Viewer {
     present: Present,
     control: CameraControl,
     mouse: Mouse,
-    watcher: Option<Watcher>,
-    queue: VecDeque<RebuildKind>,
-    job: Option<Job>,
+    reloader: Option<Reloader>,
     /// The error of the last failed rebuild, shown until a good one.
     overlay: Option<String>,
     last_reload: Option<String>,
@@ -114,7 +101,7 @@ impl Viewer {
             width: size.width.max(1),
             height: size.height.max(1),
             present_mode: wgpu::PresentMode::AutoNoVsync,
-            desired_maximum_frame_latency: 2,
+            desired_maximum_frame_latency: 1,
             alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
             view_formats: vec![],
         };
@@ -146,12 +133,11 @@ impl Viewer {
         );
         let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
         let present = Present::new(&gpu.device, format)?;
-        let dirs = watch_dirs(&session.sources());
-        let watcher = match Watcher::new(&dirs) {
-            Ok(w) => {
+        let reloader = match Reloader::start(&session) {
+            Ok((r, dirs)) => {
                 let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
                 println!("watching {} for changes", shown.join(", "));
-                Some(w)
+                Some(r)
             }
             Err(e) => {
                 eprintln!("glint: hot reload is off: {e}");
@@ -175,9 +161,7 @@ impl Viewer {
             present,
             control,
             mouse: Mouse::default(),
-            watcher,
-            queue: VecDeque::new(),
-            job: None,
+            reloader,
             overlay: None,
             last_reload: None,
             panel,
@@ -265,8 +249,13 @@ impl Viewer {
                 }
                 self.overlay = None;
                 self.last_reload = Some(format!("{} passes rebuilt in {:.0} ms", report.rebuilt.len(), report.ms));
+                self.refresh_reloader();
             }
-            Ok(None) => {}
+            Ok(None) => {
+                if matches!(action, Action::SetParam { .. }) {
+                    self.refresh_reloader();
+                }
+            }
             Err(e) => self.show_error(e.to_string()),
         }
     }
@@ -278,66 +267,31 @@ impl Viewer {
         self.overlay = Some(message);
     }
 
-    /// Starts queued rebuilds on a worker thread and commits finished ones
-    /// at this frame boundary.
+    /// Commits a rebuild the reload thread finished, at this frame
+    /// boundary.
     fn poll_reload(&mut self) {
-        if let Some(w) = &mut self.watcher {
-            let (changed, errors) = w.changed(Duration::ZERO);
-            for e in errors {
-                eprintln!("glint: file watcher: {e}");
+        let Some(finished) = self.reloader.as_ref().and_then(Reloader::finished) else { return };
+        match finished.result.and_then(|r| self.session.commit(r)) {
+            Ok(report) => {
+                let line = format!(
+                    "reloaded {}: {} passes rebuilt in {:.0} ms ({} frames presented meanwhile)",
+                    finished.what,
+                    report.rebuilt.len(),
+                    finished.started.elapsed().as_secs_f64() * 1e3,
+                    finished.frames
+                );
+                self.announce = Some(line.clone());
+                self.last_reload = Some(line);
+                self.overlay = None;
             }
-            if !changed.is_empty() {
-                for kind in classify(&self.session.sources(), &changed) {
-                    if !self.queue.contains(&kind) {
-                        self.queue.push_back(kind);
-                    }
-                }
-            }
+            Err(e) => self.show_error(format!("{e} (keeping the last good {})", finished.kind)),
         }
-        if let Some(job) = &mut self.job {
-            job.frames += 1;
-            match job.result.try_recv() {
-                Err(TryRecvError::Empty) => return,
-                Err(TryRecvError::Disconnected) => {
-                    let what = job.what.clone();
-                    self.job = None;
-                    self.show_error(format!("{what}: the rebuild stopped without a result"));
-                }
-                Ok(result) => {
-                    let Some(job) = self.job.take() else { return };
-                    match result.and_then(|r| self.session.commit(r)) {
-                        Ok(report) => {
-                            let line = format!(
-                                "reloaded {}: {} passes rebuilt in {:.0} ms ({} frames presented meanwhile)",
-                                job.what,
-                                report.rebuilt.len(),
-                                job.started.elapsed().as_secs_f64() * 1e3,
-                                job.frames
-                            );
-                            self.announce = Some(line.clone());
-                            self.last_reload = Some(line);
-                            self.overlay = None;
-                        }
-                        Err(e) => self.show_error(format!("{e} (keeping the last good {})", job.kind)),
-                    }
-                }
-            }
-        }
-        if self.job.is_none() {
-            if let Some(kind) = self.queue.pop_front() {
-                let what = match &kind {
-                    RebuildKind::Shaders(f) => f.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
-                    RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) | RebuildKind::Scene(p) => p.display().to_string(),
-                    RebuildKind::Edits => "graph edits".into(),
-                };
-                let job = self.session.job(kind);
-                let k = job.kind().what();
-                let (tx, rx) = channel();
-                std::thread::spawn(move || {
-                    let _ = tx.send(job.run());
-                });
-                self.job = Some(Job { what, kind: k, result: rx, started: Instant::now(), frames: 0 });
-            }
+        self.refresh_reloader();
+    }
+
+    fn refresh_reloader(&self) {
+        if let Some(r) = &self.reloader {
+            r.refresh(&self.session);
         }
     }
 
@@ -357,14 +311,8 @@ impl Viewer {
         let raw = self.egui_state.take_egui_input(&self.window);
         let mut actions = Vec::new();
         let mut central = egui::Rect::NOTHING;
-        let rebuilding = self.job.as_ref().map(|j| j.what.clone());
-        let input = PanelInput {
-            frames: &self.frames,
-            fps: self.fps,
-            rebuilding: rebuilding.as_deref(),
-            frames_during_rebuild: self.job.as_ref().map_or(0, |j| j.frames),
-            last_reload: self.last_reload.as_deref(),
-        };
+        let rebuilding = self.reloader.as_ref().and_then(Reloader::running);
+        let input = PanelInput { frames: &self.frames, fps: self.fps, rebuilding: rebuilding.as_deref(), last_reload: self.last_reload.as_deref() };
         let (session, panel, overlay) = (&self.session, &mut self.panel, &self.overlay);
         let output = self.egui_ctx.run_ui(raw, |ui| {
             egui::Panel::left("panels").resizable(false).exact_size(PANEL_WIDTH).show(ui, |ui| {
@@ -387,8 +335,9 @@ impl Viewer {
         }
         if self.panel.resource != kept_before {
             let keep = self.panel.resource.iter().cloned().collect();
-            if let Err(e) = self.session.set_kept(keep) {
-                self.show_error(e.to_string());
+            match self.session.set_kept(keep) {
+                Ok(_) => self.refresh_reloader(),
+                Err(e) => self.show_error(e.to_string()),
             }
         }
         let ppp = output.pixels_per_point;
@@ -440,6 +389,9 @@ impl Viewer {
             self.egui_renderer.free_texture(id);
         }
         self.presented += 1;
+        if let Some(r) = &self.reloader {
+            r.presented();
+        }
         if let Some(line) = self.announce.take() {
             // The frame rendered after the swap was just presented.
             use std::io::Write as _;

@@ -8,6 +8,7 @@ mod app;
 pub mod camera;
 pub mod panels;
 pub mod present;
+mod reloader;
 mod screenshot;
 pub mod ui_hints;
 

@@ -80,7 +80,6 @@ pub struct PanelInput<'a> {
     pub frames: &'a FrameLoop,
     pub fps: f64,
     pub rebuilding: Option<&'a str>,
-    pub frames_during_rebuild: u64,
     pub last_reload: Option<&'a str>,
 }
 
@@ -109,7 +108,7 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Vec<A
         }
     }
     if let Some(what) = input.rebuilding {
-        ui.label(RichText::new(format!("rebuilding {what}... ({} frames presented meanwhile)", input.frames_during_rebuild)).color(Color32::YELLOW));
+        ui.label(RichText::new(format!("rebuilding {what}...")).color(Color32::YELLOW));
     } else if let Some(r) = input.last_reload {
         ui.label(RichText::new(r).weak());
     }
