@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 
 use super::render_cmd::{render_frames, RenderArgs};
 use crate::error::UserError;
-use crate::reload::{classify, watch_dirs, Watcher};
+use crate::reload::{classify, relative_to_cwd, watch_dirs, Watcher};
 use crate::session::frame_loop::{FrameLoop, FrameStats};
 use crate::session::rebuild::RebuildKind;
 use crate::session::Session;
@@ -58,9 +58,10 @@ pub fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop, _gr
                     frames.time = args.time;
                     frames.stats = FrameStats::default();
                     render_frames(args, &mut session, &mut frames, true)?;
-                    out!("reloaded {file}: {} passes rebuilt in {:.0} ms", report.rebuilt.len(), start.elapsed().as_secs_f64() * 1e3);
+                    let line = format!("reloaded {file}: {} passes rebuilt in {:.0} ms", report.rebuilt.len(), start.elapsed().as_secs_f64() * 1e3);
+                    out!("{}", relative_to_cwd(&line));
                 }
-                Err(e) => out!("error: {e} (keeping the last good {what})"),
+                Err(e) => out!("{}", relative_to_cwd(&format!("error: {e} (keeping the last good {what})"))),
             }
         }
     }

@@ -22,6 +22,19 @@ use notify_debouncer_full::{new_debouncer, DebounceEventResult, Debouncer, Recom
 use crate::error::UserError;
 pub use classify::{classify, watch_dirs, Sources};
 
+/// `text` with the current folder's absolute path taken out of the paths
+/// in it: the watcher reports absolute paths, a user reads
+/// `shaders/lights.wgsl:67:49` better.
+pub fn relative_to_cwd(text: &str) -> String {
+    let Ok(cwd) = std::env::current_dir() else { return text.to_string() };
+    let mut out = text.to_string();
+    for dir in [std::fs::canonicalize(&cwd).unwrap_or_else(|_| cwd.clone()), cwd] {
+        let prefix = format!("{}{}", dir.display(), std::path::MAIN_SEPARATOR);
+        out = out.replace(&prefix, "");
+    }
+    out
+}
+
 /// Quiet time that ends a batch of events.
 pub const DEBOUNCE: Duration = Duration::from_millis(100);
 

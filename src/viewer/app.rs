@@ -261,6 +261,7 @@ impl Viewer {
     }
 
     fn show_error(&mut self, message: String) {
+        let message = crate::reload::relative_to_cwd(&message);
         if self.overlay.as_deref() != Some(message.as_str()) {
             eprintln!("error: {message}");
         }
@@ -280,6 +281,7 @@ impl Viewer {
                     finished.started.elapsed().as_secs_f64() * 1e3,
                     finished.frames
                 );
+                let line = crate::reload::relative_to_cwd(&line);
                 self.announce = Some(line.clone());
                 self.last_reload = Some(line);
                 self.overlay = None;
