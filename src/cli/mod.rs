@@ -128,7 +128,7 @@ pub fn main() -> i32 {
     quiet_platform();
     let cli = Cli::parse();
     let result: Result<(), UserError> = match cli.command {
-        Command::Render(args) => render_cmd::run(args),
+        Command::Render(args) => watch_cmd::run(&args),
         Command::View(args) => view_cmd::run(args),
         Command::Machines => view_cmd::machines(),
         Command::Bench { command } => bench_cmd::run(command),

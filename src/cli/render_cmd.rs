@@ -100,7 +100,6 @@ fn check_outputs(outs: &[PathBuf]) -> Result<(), UserError> {
 pub(super) struct Prepared {
     pub session: Session,
     pub frames: FrameLoop,
-    pub graph_path: PathBuf,
 }
 
 pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
@@ -126,7 +125,7 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
     frames.target = target;
     let mut session = Session::new(&gpu, scene, &graph_path, options)?;
     session.timing = Timing::for_adapter(&gpu, args.profile);
-    Ok(Prepared { session, frames, graph_path })
+    Ok(Prepared { session, frames })
 }
 
 /// Renders `frames` frames from the loop's start and writes the outputs.
@@ -156,8 +155,9 @@ pub(super) fn render_frames(args: &RenderArgs, session: &mut Session, frames: &m
     Ok(())
 }
 
-pub fn run(args: RenderArgs) -> Result<(), UserError> {
-    let Prepared { mut session, mut frames, graph_path } = prepare(&args)?;
+/// Renders; `--watch` then goes on in `watch_cmd`, with what this returns.
+pub(super) fn run(args: &RenderArgs) -> Result<(Session, FrameLoop), UserError> {
+    let Prepared { mut session, mut frames, .. } = prepare(args)?;
     eprintln!(
         "glint: {} on {}, graph `{}` ({} passes, {} culled), {}x{}, {} frame(s)",
         args.scene.display(),
@@ -170,12 +170,9 @@ pub fn run(args: RenderArgs) -> Result<(), UserError> {
         args.frames
     );
     let start = Instant::now();
-    render_frames(&args, &mut session, &mut frames, false)?;
-    print_summary(&args, &session, &frames, start.elapsed().as_secs_f64());
-    if args.watch {
-        return super::watch_cmd::watch(&args, session, frames, &graph_path);
-    }
-    Ok(())
+    render_frames(args, &mut session, &mut frames, false)?;
+    print_summary(args, &session, &frames, start.elapsed().as_secs_f64());
+    Ok((session, frames))
 }
 
 fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, seconds: f64) {

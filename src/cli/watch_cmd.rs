@@ -6,7 +6,6 @@
 //! `error: <file>:<line>:<col>: <message> (keeping the last good <what>)`.
 //! Ctrl-C (SIGINT) ends it with exit code 0.
 
-use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -31,7 +30,16 @@ fn subject(kind: &RebuildKind, changed: &[std::path::PathBuf]) -> String {
     }
 }
 
-pub fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop, _graph_path: &Path) -> Result<(), UserError> {
+/// `glint render ... --watch`: the render, then the watch loop.
+pub fn run(args: &RenderArgs) -> Result<(), UserError> {
+    let (session, frames) = super::render_cmd::run(args)?;
+    if !args.watch {
+        return Ok(());
+    }
+    watch(args, session, frames)
+}
+
+fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop) -> Result<(), UserError> {
     let stop = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&stop);
     ctrlc::set_handler(move || flag.store(true, Ordering::Release))

@@ -11,16 +11,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::session::rebuild::RebuildKind;
-
-/// What the running session is made of, as paths (absolute and canonical
-/// where the files exist, as the watcher reports them).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Sources {
-    pub shader_dir: PathBuf,
-    pub graph: PathBuf,
-    pub scene: Option<PathBuf>,
-    pub meshes: Vec<PathBuf>,
-}
+pub use crate::session::Sources;
 
 /// The folders to watch, recursively and without duplicates: editors that
 /// save by renaming a temporary file over the old one replace the file, so

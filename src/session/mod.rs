@@ -70,6 +70,16 @@ impl SessionOptions {
     }
 }
 
+/// What the running session is made of, as paths (absolute and canonical
+/// where the files exist, as the watcher reports them).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Sources {
+    pub shader_dir: PathBuf,
+    pub graph: PathBuf,
+    pub scene: Option<PathBuf>,
+    pub meshes: Vec<PathBuf>,
+}
+
 /// What a committed rebuild did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReloadReport {
@@ -243,10 +253,10 @@ impl Session {
     }
 
     /// The files this session is made of, for the watcher.
-    pub fn sources(&self) -> crate::reload::Sources {
+    pub fn sources(&self) -> Sources {
         let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
         let scene = &self.scene.scene;
-        crate::reload::Sources {
+        Sources {
             shader_dir: self.shader_dir.clone(),
             graph: canon(&self.graph.path),
             scene: scene.path.is_file().then(|| canon(&scene.path)),
