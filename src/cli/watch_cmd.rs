@@ -6,25 +6,31 @@
 //! `error: <file>:<line>:<col>: <message> (keeping the last good <what>)`.
 //! Ctrl-C (SIGINT) ends it with exit code 0.
 
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::render_cmd::{render_frames, RenderArgs};
 use crate::error::UserError;
-use crate::reload::{classify, relative_to_cwd, watch_dirs, Watcher};
+use crate::reload::{classify, relative_to_cwd, watch_dirs, Sources, Watcher};
 use crate::session::frame_loop::{FrameLoop, FrameStats};
 use crate::session::rebuild::RebuildKind;
 use crate::session::Session;
 
-/// The file a rebuild is named by in its event line.
-fn subject(kind: &RebuildKind, changed: &[std::path::PathBuf]) -> String {
+/// The file a rebuild is named by in its event line: for a scene, the
+/// scene file if it changed, else the meshes or materials that did.
+fn subject(kind: &RebuildKind, changed: &[PathBuf], sources: &Sources) -> String {
+    let list = |files: &[&PathBuf]| files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(", ");
     match kind {
-        RebuildKind::Shaders(files) => files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(", "),
+        RebuildKind::Shaders(files) => list(&files.iter().collect::<Vec<_>>()),
         RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) => p.display().to_string(),
         RebuildKind::Scene(p) => {
-            let meshes: Vec<String> = changed.iter().filter(|c| c.as_path() != p.as_path()).map(|c| c.display().to_string()).collect();
-            if changed.iter().any(|c| c == p) || meshes.is_empty() { p.display().to_string() } else { meshes.join(", ") }
+            let meshes: Vec<&PathBuf> = changed
+                .iter()
+                .filter(|c| c.as_path() != p.as_path() && classify(sources, std::slice::from_ref(*c)).iter().any(|k| matches!(k, RebuildKind::Scene(_))))
+                .collect();
+            if changed.iter().any(|c| c == p) || meshes.is_empty() { p.display().to_string() } else { list(&meshes) }
         }
         RebuildKind::Edits => "graph edits".to_string(),
     }
@@ -56,9 +62,10 @@ fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop) -> Resu
         if changed.is_empty() {
             continue;
         }
-        for kind in classify(&session.sources(), &changed) {
+        let sources = session.sources();
+        for kind in classify(&sources, &changed) {
             let what = kind.what();
-            let file = subject(&kind, &changed);
+            let file = subject(&kind, &changed, &sources);
             let start = Instant::now();
             let result = session.job(kind).run().and_then(|r| session.commit(r));
             match result {

@@ -29,7 +29,13 @@ impl ShaderSource {
         }
         match self.line_map.get(expanded_line - 1) {
             Some(&(file, line)) => Location::at(&self.files[file], line, col),
-            None => Location::file(&self.files[0]),
+            // Past the end (naga places an unexpected end of file after the
+            // last newline): the pass file's last line, which is always the
+            // last mapped one, since imports are inlined where they appear.
+            None => match self.line_map.last() {
+                Some(&(file, line)) => Location::at(&self.files[file], line, 0),
+                None => Location::file(&self.files[0]),
+            },
         }
     }
 
@@ -129,6 +135,9 @@ mod tests {
         assert_eq!(loc.line, 3);
         let line = s.text.lines().position(|l| l.starts_with("const B")).unwrap() + 1;
         assert!(s.original(line, 1).file.ends_with("b.wgsl"));
+        // An error past the end of the text lands on the pass file's last line.
+        let end = s.original(s.text.lines().count() + 1, 1);
+        assert!(end.file.ends_with("p.wgsl") && end.line == 3, "{end}");
         let err = expand_text("#import nothere\n", &dir.join("q.wgsl"), &dir).unwrap_err();
         assert!(err.to_string().contains("q.wgsl:1"), "{err}");
         std::fs::remove_dir_all(&dir).ok();
