@@ -57,6 +57,19 @@ pub fn load_shaders(desc: &FrameGraph, dir: &Path) -> Result<BTreeMap<String, Sh
     Ok(shaders)
 }
 
+/// The expanded sources of every shader a graph names (imports read, no
+/// naga yet); missing files are left out as in `load_shaders`.
+pub fn load_sources(desc: &FrameGraph, dir: &Path) -> Result<BTreeMap<String, shader::ShaderSource>, UserError> {
+    let mut sources = BTreeMap::new();
+    for pass in &desc.passes {
+        if sources.contains_key(&pass.shader) || !dir.join(&pass.shader).is_file() {
+            continue;
+        }
+        sources.insert(pass.shader.clone(), shader::source::load(dir, &pass.shader)?);
+    }
+    Ok(sources)
+}
+
 pub fn reflections(shaders: &BTreeMap<String, Shader>) -> BTreeMap<String, ShaderInfo> {
     shaders.iter().map(|(k, s)| (k.clone(), s.info.clone())).collect()
 }

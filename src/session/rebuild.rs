@@ -106,6 +106,21 @@ fn matching_sets(sets: &[ParamSet], desc: &FrameGraph, shaders: &BTreeMap<String
         .collect()
 }
 
+/// Shaders whose expanded text is what `loaded` already holds are taken
+/// from there (no naga parse and validation again); the rest are parsed.
+fn reuse_unchanged(
+    sources: BTreeMap<String, crate::shader::ShaderSource>,
+    loaded: &BTreeMap<String, Shader>,
+) -> Result<BTreeMap<String, Shader>, UserError> {
+    sources
+        .into_iter()
+        .map(|(name, src)| match loaded.get(&name) {
+            Some(s) if s.source.text == src.text => Ok((name, s.clone())),
+            _ => crate::shader::from_source(src).map(|s| (name, s)),
+        })
+        .collect()
+}
+
 impl RebuildJob {
     pub fn kind(&self) -> &RebuildKind {
         &self.kind
@@ -145,7 +160,7 @@ impl RebuildJob {
             }
             RebuildKind::Graph(path) | RebuildKind::SwitchGraph(path) => {
                 let desc = FrameGraph::load(path)?;
-                let shaders = graph::load_shaders(&desc, &shader_dir)?;
+                let shaders = reuse_unchanged(graph::load_sources(&desc, &shader_dir)?, &current.shaders)?;
                 if matches!(kind, RebuildKind::SwitchGraph(_)) {
                     options.edits.set = preset;
                     options.edits.skip.clear();

@@ -33,6 +33,6 @@ pub fn apply(session: &mut Session, frames: &mut FrameLoop, profiles: &[Profile]
             frames.stats.last.clear();
             Ok(None)
         }
-        Action::Screenshot => Ok(None),
+        Action::Screenshot | Action::MeasureReuse => Ok(None),
     }
 }

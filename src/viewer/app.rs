@@ -15,6 +15,7 @@ use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
 use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
 use crate::session::{Session, SessionOptions};
+use crate::stats::{ReuseShare, REFLECT_REUSE};
 use crate::viewer::actions;
 use crate::viewer::camera::{self, CameraControl};
 use crate::viewer::panels::{self, Action, PanelInput, PanelState};
@@ -57,6 +58,9 @@ pub struct Viewer {
     panel: PanelState,
     options: ViewOptions,
     presented: u64,
+    /// When the last frames were presented (the longest gap during a
+    /// rebuild shows whether the window kept presenting).
+    present_times: std::collections::VecDeque<Instant>,
     fps: f64,
     last_frame: Instant,
     screenshot_requested: bool,
@@ -111,6 +115,7 @@ impl Viewer {
         let mut session_options = SessionOptions::new(options.size);
         session_options.seed = options.seed;
         session_options.compile.edits.set = choice.params.clone();
+        session_options.compile.keep = vec![REFLECT_REUSE.to_string()];
         session_options.size = choice.scaled(options.size);
         let base_camera = scene.camera;
         let mut session = Session::new(&gpu, scene, &choice.graph, session_options)?;
@@ -167,6 +172,7 @@ impl Viewer {
             panel,
             options,
             presented: 0,
+            present_times: std::collections::VecDeque::new(),
             fps: 0.0,
             last_frame: Instant::now(),
             screenshot_requested: false,
@@ -239,6 +245,16 @@ impl Viewer {
     fn apply(&mut self, action: Action) {
         match &action {
             Action::Screenshot => self.screenshot_requested = true,
+            Action::MeasureReuse => {
+                self.panel.reuse = Some(match self.session.read_resource(REFLECT_REUSE) {
+                    Some(Ok(img)) => {
+                        let s = ReuseShare::of(&img);
+                        format!("{:.1}% of {} specular pixels reused", s.share() * 100.0, s.specular)
+                    }
+                    Some(Err(e)) => e.to_string(),
+                    None => "no reuse record in this graph".into(),
+                });
+            }
             Action::SetGraph(_) => self.panel.active_profile = None,
             _ => {}
         }
@@ -275,11 +291,13 @@ impl Viewer {
         match finished.result.and_then(|r| self.session.commit(r)) {
             Ok(report) => {
                 let line = format!(
-                    "reloaded {}: {} passes rebuilt in {:.0} ms ({} frames presented meanwhile)",
+                    "reloaded {}: {} passes rebuilt in {:.0} ms ({} frames presented meanwhile, longest gap between frames {:.0} ms, frame time {:.0} ms)",
                     finished.what,
                     report.rebuilt.len(),
                     finished.started.elapsed().as_secs_f64() * 1e3,
-                    finished.frames
+                    finished.frames,
+                    self.longest_gap_since(finished.started),
+                    self.recent_frame_ms(finished.started)
                 );
                 let line = crate::reload::relative_to_cwd(&line);
                 self.announce = Some(line.clone());
@@ -289,6 +307,27 @@ impl Viewer {
             Err(e) => self.show_error(format!("{e} (keeping the last good {})", finished.kind)),
         }
         self.refresh_reloader();
+    }
+
+    /// The longest time between two presented frames from `start` to now
+    /// (the gap from the last present to now included).
+    fn longest_gap_since(&self, start: Instant) -> f64 {
+        let now = Instant::now();
+        let mut last = start;
+        let mut gap = 0.0f64;
+        for &t in self.present_times.iter().filter(|&&t| t > start) {
+            gap = gap.max(t.duration_since(last).as_secs_f64());
+            last = t;
+        }
+        gap.max(now.duration_since(last).as_secs_f64()) * 1e3
+    }
+
+    /// The median time between presented frames before `before`.
+    fn recent_frame_ms(&self, before: Instant) -> f64 {
+        let times: Vec<&Instant> = self.present_times.iter().filter(|&&t| t <= before).collect();
+        let gaps: Vec<f64> = times.windows(2).map(|w| w[1].duration_since(*w[0]).as_secs_f64() * 1e3).collect();
+        let start = gaps.len().saturating_sub(30);
+        crate::metrics::median(&gaps[start..])
     }
 
     fn refresh_reloader(&self) {
@@ -336,7 +375,7 @@ impl Viewer {
             self.apply(a);
         }
         if self.panel.resource != kept_before {
-            let keep = self.panel.resource.iter().cloned().collect();
+            let keep = self.panel.resource.iter().cloned().chain([REFLECT_REUSE.to_string()]).collect();
             match self.session.set_kept(keep) {
                 Ok(_) => self.refresh_reloader(),
                 Err(e) => self.show_error(e.to_string()),
@@ -391,6 +430,10 @@ impl Viewer {
             self.egui_renderer.free_texture(id);
         }
         self.presented += 1;
+        self.present_times.push_back(Instant::now());
+        if self.present_times.len() > 256 {
+            self.present_times.pop_front();
+        }
         if let Some(r) = &self.reloader {
             r.presented();
         }

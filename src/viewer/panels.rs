@@ -28,6 +28,8 @@ pub enum Action {
     Pause(bool),
     /// Per-pass wall times on CPU adapters (submits passes one by one).
     Profile(bool),
+    /// Read back the reflection-reuse record once (it waits for the frame).
+    MeasureReuse,
     Screenshot,
 }
 
@@ -44,6 +46,8 @@ pub struct PanelState {
     /// The profile the adapter matched, and the one running.
     pub matched_profile: Option<usize>,
     pub active_profile: Option<usize>,
+    /// The last reflection-reuse measurement, in words.
+    pub reuse: Option<String>,
     /// Hints per shader file, read once per shader source.
     hints: BTreeMap<String, (u64, BTreeMap<String, Hint>)>,
 }
@@ -58,6 +62,7 @@ impl PanelState {
             profiles,
             matched_profile,
             active_profile: matched_profile,
+            reuse: None,
             hints: BTreeMap::new(),
         }
     }
@@ -86,7 +91,7 @@ pub struct PanelInput<'a> {
 pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelState) -> Vec<Action> {
     let mut actions = Vec::new();
     egui::ScrollArea::vertical().show(ui, |ui| {
-        stats(ui, session, input, &mut actions);
+        stats(ui, session, input, state.reuse.as_deref(), &mut actions);
         graphs(ui, session, state, &mut actions);
         schedule(ui, session, input, &mut actions);
         params(ui, session, state, &mut actions);
@@ -96,16 +101,19 @@ pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut Pane
     actions
 }
 
-fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Vec<Action>) {
+fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>, actions: &mut Vec<Action>) {
     let sched = &session.graph.schedule;
     ui.heading("glint");
     ui.label(format!("{:.1} FPS, {}x{}, graph `{}`", input.fps, session.size.0, session.size.1, sched.name));
     ui.label(format!("frames accumulated: {}", session.accumulated()));
     ui.label(format!("scene time {:.2} s{}", input.frames.time, if input.frames.paused { " (paused)" } else { "" }));
-    if sched.features.has(crate::scene::Feature::Specular) {
-        if let Some(share) = input.frames.stats.last.get("reflections") {
-            ui.label(format!("reflections: {share:.2} ms"));
-        }
+    if sched.passes.iter().any(|p| p.name == "reflections") {
+        ui.horizontal(|ui| {
+            if ui.button("reflection reuse").on_hover_text("reads the reuse record back once (waits for the frame)").clicked() {
+                actions.push(Action::MeasureReuse);
+            }
+            ui.label(reuse.unwrap_or("not measured"));
+        });
     }
     if let Some(what) = input.rebuilding {
         ui.label(RichText::new(format!("rebuilding {what}...")).color(Color32::YELLOW));
