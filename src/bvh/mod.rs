@@ -1,4 +1,4 @@
-//! Acceleration (DESIGN.md section 6): a binned-SAH BVH per mesh (BLAS)
+//! Acceleration (README, "Acceleration"): a binned-SAH BVH per mesh (BLAS)
 //! built on the CPU, a TLAS over instances (meshes, spheres, light spheres),
 //! the flattened GPU layout, and a Rust mirror of the WGSL ray math and
 //! traversal for exhaustive CPU tests.

@@ -1,4 +1,4 @@
-//! The RON schema of a frame graph (DESIGN.md section 3). A graph file knows
+//! The RON schema of a frame graph (README, "The frame graph"). A graph file knows
 //! nothing about wgpu: resources, passes and the output.
 
 use std::collections::BTreeMap;
@@ -94,7 +94,7 @@ pub struct PassDesc {
     pub bind: BTreeMap<String, String>,
 }
 
-/// A map key written bare (`{ samples: 1 }`, as in DESIGN.md) or quoted
+/// A map key written bare (`{ samples: 1 }`, as the shipped graphs write them) or quoted
 /// (`{ "src": "lit" }`). Untagged enums go through serde's buffered content,
 /// for which RON hands bare identifiers over as strings.
 #[derive(Deserialize, PartialEq, Eq, PartialOrd, Ord)]

@@ -1,5 +1,5 @@
 // Side-by-side reference for `glint bench rays`: the same OBJ, the same
-// camera convention (DESIGN.md section 8: up +y, one ray through each pixel
+// camera convention (README, "Conventions": up +y, one ray through each pixel
 // centre, no jitter), primary rays traced with Intel Embree 4 (rtcIntersect1,
 // incoherent single rays as glint traces them, one thread per core). Prints build ms and primary Mrays/s as key=value
 // lines and writes the hit distance along the unit direction (inf on a
