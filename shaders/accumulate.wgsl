@@ -11,15 +11,23 @@
 //          view, so their history is wrong once it moves). A scene change (moving
 //          lights or objects, frame.epoch_frames = 0) still drops it all.
 // `geo` keeps what the next frame checks against: the octahedral normal,
-// the hit distance (-1 on a miss) and the pixel's sample count.
+// the hit distance (-1 on a miss) and the pixel's sample count (as a float,
+// for viewing; the count itself is the u32 in `comp`).
+// `comp` (rgba32uint) holds the mean's Kahan compensation (rgb, f32 bits)
+// and the sample count (a): see shared/mean.wgsl.
 // max_history > 0 caps the count (an exponential average past it).
+// A sample holding NaN or Inf is not accumulated (the pixel keeps its
+// history); negative radiance counts as 0; clamp_max > 0 scales samples
+// brighter than it down to it (a firefly clamp, biased; 0 = off).
 #import frame
+#import mean
 
 struct Params {
     mode: u32, // ui: 0..1 "mode (0 reset, 1 reproject)"
     depth_tol: f32, // ui: 0.0001..0.1 log "depth tolerance"
     normal_cos: f32, // ui: 0..1 "normal cos"
-    max_history: f32, // ui: 0..4096 "max history (0: none)"
+    max_history: u32, // ui: 0..4096 "max history (0: none)"
+    clamp_max: f32, // ui: 0..1000 "firefly clamp (0: off)"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -30,6 +38,24 @@ struct Params {
 @group(0) @binding(5) var gbuf_normal: texture_2d<f32>;
 @group(0) @binding(6) var geo_prev: texture_2d<f32>;
 @group(0) @binding(7) var geo: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(8) var comp_prev: texture_2d<u32>;
+@group(0) @binding(9) var comp: texture_storage_2d<rgba32uint, write>;
+
+// A pixel's history: its mean and how many samples made it.
+struct History {
+    mean: Mean,
+    count: u32,
+}
+
+fn load_history(q: vec2i) -> History {
+    let c = textureLoad(comp_prev, q, 0);
+    let m = Mean(textureLoad(accum_prev, q, 0).rgb, bitcast<vec3f>(c.rgb));
+    // History that is not finite (it should never be) starts over.
+    if !all_finite(m.value) || !all_finite(m.comp) {
+        return History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
+    }
+    return History(m, c.a);
+}
 
 fn oct_encode(n: vec3f) -> vec2f {
     let l1 = abs(n.x) + abs(n.y) + abs(n.z);
@@ -67,26 +93,31 @@ fn agrees(q: vec2i, g: vec4f, p: vec3f, n: vec3f, miss: bool) -> bool {
     return abs(dot(q_pos - p, n)) <= params.depth_tol * length(p - frame.prev_camera.origin);
 }
 
-// Last frame's mean (rgb) and sample count (a) at this pixel, or zero.
-fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> vec4f {
+// Last frame's history at this pixel, or none: the mean and compensation
+// blended over the accepted taps, the count the smallest of theirs (an
+// integer, and never more samples than the least-sampled tap had).
+fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> History {
+    let none = History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
     let miss = g.w < 0.0;
     // A miss is projected as a direction (a point at infinity).
     let now = project(frame.camera, select(g.xyz, frame.camera.origin + g.xyz, miss));
     let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
     if then.z <= 0.0 {
-        return vec4f(0.0);
+        return none;
     }
     let motion = then.xy - now.xy;
     let still = all(motion == vec2f(0.0));
     if view_dependent && !still {
-        return vec4f(0.0);
+        return none;
     }
     // Texel centres sit at i + 0.5: bilinear taps around the old centre.
     let base = vec2f(pixel) + motion;
     let i0 = vec2i(floor(base));
     let f = base - floor(base);
     let size = vec2i(frame.size);
-    var sum = vec4f(0.0);
+    var value = vec3f(0.0);
+    var compensation = vec3f(0.0);
+    var count = 0xffffffffu;
     var weight = 0.0;
     for (var k = 0; k < 4; k++) {
         let d = vec2i(k & 1, k >> 1);
@@ -97,17 +128,19 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> vec4f 
         }
         // A still camera sees the same footprint: no test needed (it would
         // otherwise reject silhouette pixels whose jittered samples differ).
-        let record = textureLoad(geo_prev, q, 0);
-        if !still && !agrees(q, record, g.xyz, n, miss) {
+        if !still && !agrees(q, textureLoad(geo_prev, q, 0), g.xyz, n, miss) {
             continue;
         }
-        sum += w * vec4f(textureLoad(accum_prev, q, 0).rgb, record.w);
+        let h = load_history(q);
+        value += w * h.mean.value;
+        compensation += w * h.mean.comp;
+        count = min(count, h.count);
         weight += w;
     }
-    if weight < 1e-3 {
-        return vec4f(0.0);
+    if weight < 1e-3 || count == 0u {
+        return none;
     }
-    return sum / weight;
+    return History(Mean(value / weight, compensation / weight), count);
 }
 
 @compute @workgroup_size(8, 8)
@@ -115,23 +148,29 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let x = textureLoad(src, id.xy, 0).rgb;
+    let sample = clean_sample(textureLoad(src, id.xy, 0).rgb, params.clamp_max);
     let g = textureLoad(gbuf_pos, id.xy, 0);
     let nw = textureLoad(gbuf_normal, id.xy, 0);
     let n = nw.xyz;
-    var history = vec4f(0.0);
+    var history = History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
     if params.mode == 0u {
         if frame.accum_count > 0u {
-            history = vec4f(textureLoad(accum_prev, id.xy, 0).rgb, f32(frame.accum_count));
+            history = load_history(vec2i(id.xy));
+            history.count = frame.accum_count;
         }
     } else if frame.epoch_frames > 0u {
         history = reprojected(id.xy, g, n, nw.w > 0.0);
     }
-    var count = history.a;
-    if params.max_history > 0.0 {
+    var count = history.count;
+    if params.max_history > 0u {
         count = min(count, params.max_history);
     }
-    let mean = history.rgb + (x - history.rgb) / (count + 1.0);
-    textureStore(accum, id.xy, vec4f(mean, 1.0));
-    textureStore(geo, id.xy, vec4f(oct_encode(n), select(g.w, -1.0, g.w < 0.0), count + 1.0));
+    var m = history.mean;
+    if sample.valid {
+        m = mean_add(m, sample.value, count, frame.exact_one);
+        count += 1u;
+    }
+    textureStore(accum, id.xy, vec4f(m.value, 1.0));
+    textureStore(comp, id.xy, vec4u(bitcast<vec3u>(m.comp), count));
+    textureStore(geo, id.xy, vec4f(oct_encode(n), select(g.w, -1.0, g.w < 0.0), f32(count)));
 }

@@ -17,6 +17,7 @@ pub mod gpu;
 pub mod graph;
 pub mod image_io;
 pub mod machines;
+pub mod mean;
 pub mod metrics;
 pub mod reload;
 pub mod sampling;

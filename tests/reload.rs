@@ -169,21 +169,21 @@ fn graph_edit_keeps_params_set_live() {
     let ws = common::workspace("reload-graph");
     let graph = ws.join("passes/hybrid.ron");
     let mut s = open(gpu, &ws, "cornell.ron", "hybrid.ron", CompileOptions::default());
-    s.set_param("accumulate", "max_history", ParamValue::Float(1.0)).unwrap_or_else(|e| panic!("{e}"));
+    s.set_param("accumulate", "max_history", ParamValue::Int(1)).unwrap_or_else(|e| panic!("{e}"));
 
     // Another pass's param, in the graph file.
     let text = edit_after(&read(&graph), "name: \"lights_area\"", "samples: 1,", "samples: 3,");
     write(&graph, &text);
     let report = s.reload_graph(&graph).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.kind, RebuildKind::Graph(graph.clone()));
-    assert_eq!(s.param("accumulate", "max_history"), Some(&ParamValue::Float(1.0)), "the live param was dropped by the graph edit");
+    assert_eq!(s.param("accumulate", "max_history"), Some(&ParamValue::Int(1)), "the live param was dropped by the graph edit");
     assert_eq!(s.param("lights_area", "samples"), Some(&ParamValue::Int(3)), "the graph edit did not apply");
     assert_eq!(s.param("accumulate", "mode"), Some(&ParamValue::Int(1)));
     assert_eq!(s.param("lights_point", "samples"), None, "lights_point is culled on cornell");
 
     // And on the GPU: the image of a fresh `--set` render of the edited graph.
     let live = frames(&mut s, 3);
-    let with_set = frames(&mut open(gpu, &ws, "cornell.ron", "hybrid.ron", sets(&[("accumulate", "max_history", ParamValue::Float(1.0))])), 3);
+    let with_set = frames(&mut open(gpu, &ws, "cornell.ron", "hybrid.ron", sets(&[("accumulate", "max_history", ParamValue::Int(1))])), 3);
     assert!(same(&live, &with_set), "{} pixels differ from a fresh render with --set", differing(&live, &with_set));
     let without = frames(&mut open(gpu, &ws, "cornell.ron", "hybrid.ron", CompileOptions::default()), 3);
     assert!(differing(&live, &without) > 0, "max_history=1 does not change the image, so this test proves nothing");

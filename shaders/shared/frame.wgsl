@@ -1,4 +1,4 @@
-// The engine's per-frame uniform (mirrors FrameGpu in src/gpu/frame.rs).
+// The engine's per-frame uniform (mirrors FrameGpu in src/session/frame_uniform.rs).
 
 struct Camera {
     origin: vec3f,
@@ -30,6 +30,10 @@ struct Frame {
     // Frames since the scene last changed (0: all history is stale);
     // unlike accum_count, camera motion does not reset it.
     epoch_frames: u32,
+    // 1.0, which the shader compiler cannot know: multiplying by it keeps
+    // compensated (Kahan) arithmetic from being folded away (Mesa's NIR,
+    // for one, treats float ops as reassociable; see shared/mean.wgsl).
+    exact_one: f32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

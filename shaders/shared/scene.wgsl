@@ -5,7 +5,7 @@
 // read-only rgba32uint storage textures: record i is texels
 // texel_count * i .. of a texture
 // SCENE_TEXTURE_WIDTH texels wide, one texel per vec4 member below (the
-// byte layout of src/scene/gpu_types.rs; src/gpu/scene_buffers.rs says
+// byte layout of src/scene/gpu_types.rs; src/scene/buffers.rs says
 // why textures); so are the shading normals, to lift the storage-binding
 // limit from meshes. Meshes, materials and lights are storage buffers.
 // geo = (center, radius); ids = (material, light as i32 bits, object, _).
@@ -62,7 +62,7 @@ struct Light {
 @group(1) @binding(5) var<storage, read> scene_lights: array<Light>;
 @group(1) @binding(8) var scene_normals: texture_storage_2d<rgba32uint, read>;
 
-// Mirrors SCENE_TEXTURE_WIDTH in src/gpu/scene_buffers.rs.
+// Mirrors SCENE_TEXTURE_WIDTH in src/scene/buffers.rs.
 const SCENE_TEXTURE_WIDTH_LOG2: u32 = 12u;
 
 // Texel i of a scene texture.

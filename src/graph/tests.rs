@@ -882,7 +882,7 @@ fn shipped_direct_culls_the_missing_light_kind() -> Result<(), UserError> {
     assert_eq!(s.culled, [culled("lights_area", CullReason::Requires(vec![Feature::AreaLights]))]);
     assert_eq!(order(&s), ["gbuffer", "albedo", "lights_point", "accumulate"]);
     assert!(io(&s, "lights_point").ends_with(" lit@1 -> lit@2"), "{}", io(&s, "lights_point"));
-    assert_eq!(io(&s, "accumulate"), "lit@2 accum@0 gbuf_pos@1 gbuf_normal@1 accum_geo@0 -> accum@1 accum_geo@1");
+    assert_eq!(io(&s, "accumulate"), "lit@2 accum@0 gbuf_pos@1 gbuf_normal@1 accum_geo@0 accum_comp@0 -> accum@1 accum_geo@1 accum_comp@1");
 
     let s = shipped("direct.ron", "cornell.ron")?;
     assert_eq!(s.culled, [culled("lights_point", CullReason::Requires(vec![Feature::PointLights]))]);
@@ -897,7 +897,7 @@ fn shipped_pathtrace_keeps_everything() -> Result<(), UserError> {
         let s = shipped("pathtrace.ron", scene)?;
         assert!(s.culled.is_empty());
         assert_eq!(order(&s), ["pathtrace", "accumulate"]);
-        assert_eq!(io(&s, "accumulate"), "radiance@1 accum@0 gbuf_pos@1 gbuf_normal@1 accum_geo@0 -> accum@1 accum_geo@1");
+        assert_eq!(io(&s, "accumulate"), "radiance@1 accum@0 gbuf_pos@1 gbuf_normal@1 accum_geo@0 accum_comp@0 -> accum@1 accum_geo@1 accum_comp@1");
         assert!(s.flips_parity);
     }
     Ok(())

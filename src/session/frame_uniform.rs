@@ -71,4 +71,8 @@ pub struct FrameGpu {
     /// Frames since the scene (lights, objects) last changed; 0 = every
     /// pixel's history is stale. Camera motion does not reset it.
     pub epoch_frames: u32,
+    /// Always 1.0; shaders cannot know it at compile time, so a product
+    /// with it keeps compensated arithmetic from being folded away.
+    pub exact_one: f32,
+    pub _pad: [f32; 3],
 }

@@ -210,6 +210,8 @@ impl Session {
             mask_threshold: self.mask_threshold,
             background: data.background,
             epoch_frames: st.epoch_frames,
+            exact_one: 1.0,
+            _pad: [0.0; 3],
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let timings = self.executor.run_frame(&self.gpu, self.timing);
