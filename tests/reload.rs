@@ -36,6 +36,14 @@ fn read(path: &Path) -> String {
     std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// Saves as editors that write a temporary file and rename it over the old
+/// one do: the watcher never sees a half-written file.
+fn save_atomic(path: &Path, text: &str) {
+    let tmp = path.with_extension("saving");
+    write(&tmp, text);
+    std::fs::rename(&tmp, path).expect("rename over the file");
+}
+
 fn write(path: &Path, text: &str) {
     std::fs::write(path, text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
 }
@@ -349,7 +357,7 @@ impl Watch {
     /// unless its batch also held other files).
     fn barrier(&mut self, ws: &Path) -> Vec<String> {
         self.barriers += 1;
-        write(&ws.join("shaders").join(BARRIER), &format!("// barrier {}\n", self.barriers));
+        save_atomic(&ws.join("shaders").join(BARRIER), &format!("// barrier {}\n", self.barriers));
         let end = Instant::now() + LINE_TIMEOUT;
         let mut events = Vec::new();
         loop {
@@ -421,17 +429,15 @@ fn watch_picks_up_each_save_once_and_keeps_the_last_good_shader() {
     assert!(extra.is_empty(), "a rename-over save was picked up more than once: {extra:?}\n{}", w.output());
     assert!(differing(&load_png(&out), &first) > 0, "the output did not change after the reload");
 
-    // Save by truncating and writing in place, in two writes a moment
-    // apart (the half-written file does not compile: only the debounce
-    // keeps it from being reloaded).
+    // Save by truncating and writing in place (the file is empty for a
+    // moment: the watcher waits for content; a pause after the truncate
+    // makes that moment long enough to be seen).
     {
         let text = lights_scaled(&original, "0.8");
-        let (head, tail) = text.split_at(text.len() / 2);
         let mut f = std::fs::OpenOptions::new().write(true).truncate(true).open(&lights).expect("open lights.wgsl");
-        f.write_all(head.as_bytes()).expect("write lights.wgsl");
         f.flush().expect("flush lights.wgsl");
-        std::thread::sleep(Duration::from_millis(5));
-        f.write_all(tail.as_bytes()).expect("write lights.wgsl");
+        std::thread::sleep(Duration::from_millis(250));
+        f.write_all(text.as_bytes()).expect("write lights.wgsl");
     }
     let reloaded = w.expect("reloaded ", LINE_TIMEOUT);
     assert!(names.iter().any(|n| reloaded.starts_with(&format!("reloaded {n}: 1 passes rebuilt"))), "{reloaded}");
@@ -440,7 +446,7 @@ fn watch_picks_up_each_save_once_and_keeps_the_last_good_shader() {
     let before_burst = load_png(&out);
 
     // A save that changes nothing (same text) is skipped.
-    write(&lights, &lights_scaled(&original, "0.8"));
+    save_atomic(&lights, &lights_scaled(&original, "0.8"));
     let extra = w.barrier(&ws);
     assert!(extra.is_empty(), "a save of the same text was not skipped: {extra:?}\n{}", w.output());
 
@@ -478,7 +484,7 @@ fn watch_picks_up_each_save_once_and_keeps_the_last_good_shader() {
     // A broken save: one error line naming file and line; the output stays.
     let png_bytes = std::fs::read(&out).expect("read out.png");
     let png_time = std::fs::metadata(&out).and_then(|m| m.modified()).expect("out.png mtime");
-    write(&lights, &lights_broken(&original));
+    save_atomic(&lights, &lights_broken(&original));
     let error = w.expect("error: ", LINE_TIMEOUT);
     let at: Vec<String> = names.iter().map(|n| format!("error: {n}:{line}:")).collect();
     assert!(at.iter().any(|a| error.starts_with(a)), "expected one of {at:?}: {error}");

@@ -115,9 +115,10 @@ impl Watcher {
                 continue;
             }
             let now = content_hash(&p);
-            // A file gone for now (mid-rename) or unreadable waits for the
-            // event that brings it back.
-            if now.is_none() {
+            // A file gone for now (mid-rename), unreadable, or empty (the
+            // moment between an editor's truncate and its write) waits for
+            // the event that brings its content.
+            if now.is_none() || std::fs::metadata(&p).is_ok_and(|m| m.len() == 0) {
                 continue;
             }
             if self.hashes.get(&p) != Some(&now) {
