@@ -23,11 +23,13 @@ pub fn sample_cosine(n: Vec3, u: Vec2) -> Vec3 {
     (basis(n) * local).normalize()
 }
 
-/// Uniform direction in the cone around `axis` with cos(half-angle)
-/// `cos_max`; pdf = 1 / (2 pi (1 - cos_max)).
-pub fn sample_cone(axis: Vec3, cos_max: f32, u: Vec2) -> Vec3 {
-    let cos_t = 1.0 - u.x * (1.0 - cos_max);
-    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+/// Uniform direction in the cone around `axis` whose half-angle has
+/// 1 - cos = `one_minus_cos` (given so, since for a far light the cosine
+/// rounds to 1 in f32); pdf = cone_pdf(one_minus_cos).
+pub fn sample_cone(axis: Vec3, one_minus_cos: f32, u: Vec2) -> Vec3 {
+    let a = u.x * one_minus_cos;
+    let cos_t = 1.0 - a;
+    let sin_t = (a * (2.0 - a)).max(0.0).sqrt();
     let phi = 2.0 * PI * u.y;
     let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
     (basis(axis) * local).normalize()
@@ -39,8 +41,15 @@ pub fn sphere_cos_max(d: f32, r: f32) -> f32 {
     (1.0 - s * s).max(0.0).sqrt()
 }
 
-pub fn cone_pdf(cos_max: f32) -> f32 {
-    1.0 / (2.0 * PI * (1.0 - cos_max).max(1e-12))
+/// 1 - sphere_cos_max(d, r) without the cancellation: s^2 / (1 + cos).
+pub fn sphere_one_minus_cos(d: f32, r: f32) -> f32 {
+    let s = r / d;
+    s * s / (1.0 + (1.0 - s * s).max(0.0).sqrt())
+}
+
+/// 1 / (2 pi (1 - cos_max)); the floor keeps an underflowed cone finite.
+pub fn cone_pdf(one_minus_cos: f32) -> f32 {
+    1.0 / (2.0 * PI * one_minus_cos.max(1e-37))
 }
 
 /// The PCG hash of rng.wgsl.
@@ -101,6 +110,35 @@ mod tests {
         }
     }
 
+    /// A light of radius 1 at distance 1e4 (and smaller and farther): the
+    /// cone pdf is finite and within 1e-3 relative of the exact value, and
+    /// its samples stay inside the cone without all collapsing onto the axis.
+    #[test]
+    fn far_light_cone_does_not_cancel() {
+        for (r, d) in [(1.0f32, 1e4f32), (1.0, 1e6), (1e-3, 1e3), (0.3, 0.31), (2.0, 1e5)] {
+            let s = f64::from(r) / f64::from(d);
+            let exact_omc = s * s / (1.0 + (1.0 - s * s).sqrt());
+            let exact_pdf = 1.0 / (2.0 * std::f64::consts::PI * exact_omc);
+            let pdf = cone_pdf(sphere_one_minus_cos(d, r));
+            assert!(pdf.is_finite(), "r {r} d {d}: pdf {pdf}");
+            let rel = (f64::from(pdf) - exact_pdf).abs() / exact_pdf;
+            assert!(rel < 1e-3, "r {r} d {d}: pdf {pdf} vs {exact_pdf} ({rel:.2e})");
+            let axis = Vec3::new(0.3, 0.9, -0.2).normalize();
+            let mut off_axis = 0;
+            for i in 0..256 {
+                let dir = sample_cone(axis, sphere_one_minus_cos(d, r), hammersley(i, 256));
+                assert!(dir.is_finite());
+                // 1 - cos of the sample, measured in f64 against the axis.
+                let cos = (dir.as_dvec3().dot(axis.as_dvec3()) / dir.as_dvec3().length()).min(1.0);
+                assert!(1.0 - cos <= exact_omc * 1.01 + 1e-12, "r {r} d {d}: sample outside the cone");
+                off_axis += usize::from(dir != axis);
+            }
+            assert!(off_axis > 128, "r {r} d {d}: samples collapse onto the axis");
+        }
+        // The cancelling form this replaced: 1 - cos_max is 0 at 1e4.
+        assert_eq!(1.0 - sphere_cos_max(1e4, 1.0), 0.0);
+    }
+
     /// Irradiance from a sphere light estimated by cone sampling equals the
     /// analytic pi L sin^2(theta_max) cos(theta) for a sphere above the horizon.
     #[test]
@@ -110,12 +148,13 @@ mod tests {
             let n = Vec3::Y;
             let axis = Vec3::new(tilt.sin(), tilt.cos(), 0.0);
             let cos_max = sphere_cos_max(d, r);
+            let one_minus_cos = sphere_one_minus_cos(d, r);
             let count = 16384;
             let mut e = 0.0f64;
             for i in 0..count {
-                let dir = sample_cone(axis, cos_max, hammersley(i, count));
+                let dir = sample_cone(axis, one_minus_cos, hammersley(i, count));
                 assert!(dir.dot(axis) >= cos_max - 1e-5);
-                e += f64::from(l * dir.dot(n).max(0.0) / cone_pdf(cos_max)) / f64::from(count);
+                e += f64::from(l * dir.dot(n).max(0.0) / cone_pdf(one_minus_cos)) / f64::from(count);
             }
             let exact = f64::from(PI * l * (r / d) * (r / d) * tilt.cos());
             assert!((e - exact).abs() / exact < 2e-3, "d {d} tilt {tilt}: {e} vs {exact}");

@@ -37,6 +37,13 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             "bench_out" => *p = [p[0] / 8.0, p[1], p[2] / 8.0, 1.0],
             // Octahedral normal, distance / 8, sample count / frames.
             "accum_geo" => *p = [p[0] * 0.5 + 0.5, p[1] * 0.5 + 0.5, p[2] / 8.0, 1.0],
+            // The sample count (a) over the frames rendered; the Kahan
+            // compensation (rgb, f32 bits) is rounding noise by definition,
+            // not an image: any change of arithmetic reshuffles it.
+            "accum_comp" => {
+                let v = p[3] / FRAMES as f32;
+                *p = [v, v, v, 1.0];
+            }
             // Edge strengths and the mask: one channel shown grey.
             "edges" | "edges_h" | "edges_blur" | "mask" => *p = [p[0], p[0], p[0], 1.0],
             // -1 not specular (black), 0 shaded (grey), 1 reused (white).

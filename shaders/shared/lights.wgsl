@@ -39,14 +39,14 @@ fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
     if d <= l.radius * 1.0001 {
         return s; // inside the light: it lights nothing from here
     }
-    let cos_max = sphere_cos_max(d, l.radius);
-    s.dir = sample_cone(axis, cos_max, u);
+    let one_minus_cos = sphere_one_minus_cos(d, l.radius);
+    s.dir = sample_cone(axis, one_minus_cos, u);
     var t = ray_sphere(p, s.dir, l.position, l.radius, 0.0, 3.0e38);
     if t <= 0.0 {
-        t = d * cos_max; // grazing the silhouette: the tangent distance
+        t = d * sphere_cos_max(d, l.radius); // grazing the silhouette: the tangent distance
     }
     s.dist = t;
-    s.pdf = cone_pdf(cos_max);
+    s.pdf = cone_pdf(one_minus_cos);
     s.weight = l.color / s.pdf;
     s.valid = true;
     return s;
@@ -59,7 +59,7 @@ fn light_pdf(l: Light, p: vec3f) -> f32 {
     if l.kind != LIGHT_SPHERE || d <= l.radius * 1.0001 {
         return 0.0;
     }
-    return cone_pdf(sphere_cos_max(d, l.radius));
+    return cone_pdf(sphere_one_minus_cos(d, l.radius));
 }
 
 // Whether the light sample is visible from the offset origin `o`.

@@ -20,11 +20,16 @@ fn sample_cosine(n: vec3f, u: vec2f) -> vec3f {
     return normalize(basis(n) * local);
 }
 
-// Uniform direction in the cone around `axis` with half-angle acos(cos_max);
-// pdf = 1 / (2 pi (1 - cos_max)).
-fn sample_cone(axis: vec3f, cos_max: f32, u: vec2f) -> vec3f {
-    let cos_t = 1.0 - u.x * (1.0 - cos_max);
-    let sin_t = sqrt(max(0.0, 1.0 - cos_t * cos_t));
+// Cones are given by 1 - cos(half-angle), not the cosine: for a small or
+// far light the cosine rounds to 1 in f32 and 1 - cos_max cancels to 0
+// (a light of radius 1 at distance 1e4 has 1 - cos_max = 5e-9).
+
+// Uniform direction in the cone around `axis` whose half-angle has
+// 1 - cos = `one_minus_cos`; pdf = cone_pdf(one_minus_cos).
+fn sample_cone(axis: vec3f, one_minus_cos: f32, u: vec2f) -> vec3f {
+    let a = u.x * one_minus_cos; // 1 - cos(theta)
+    let cos_t = 1.0 - a;
+    let sin_t = sqrt(max(0.0, a * (2.0 - a)));
     let phi = 2.0 * PI * u.y;
     let local = vec3f(sin_t * cos(phi), sin_t * sin(phi), cos_t);
     return normalize(basis(axis) * local);
@@ -36,8 +41,16 @@ fn sphere_cos_max(d: f32, r: f32) -> f32 {
     return sqrt(max(0.0, 1.0 - s * s));
 }
 
-fn cone_pdf(cos_max: f32) -> f32 {
-    return 1.0 / (2.0 * PI * max(1.0 - cos_max, 1e-12));
+// 1 - sphere_cos_max(d, r), without the cancellation: s^2 / (1 + cos).
+fn sphere_one_minus_cos(d: f32, r: f32) -> f32 {
+    let s = r / d;
+    return s * s / (1.0 + sqrt(max(0.0, 1.0 - s * s)));
+}
+
+// 1 / (2 pi (1 - cos_max)); the floor only keeps an underflowed cone (a
+// light smaller than f32 can tell from a point) finite.
+fn cone_pdf(one_minus_cos: f32) -> f32 {
+    return 1.0 / (2.0 * PI * max(one_minus_cos, 1e-37));
 }
 
 fn max3(v: vec3f) -> f32 {
@@ -45,7 +58,8 @@ fn max3(v: vec3f) -> f32 {
 }
 
 // Replaces NaN/Inf with zero so one bad sample cannot poison an average.
+// By bits: a compiler may assume `v == v` always holds.
 fn finite_or_zero(v: vec3f) -> vec3f {
-    let ok = all(v == v) && all(abs(v) < vec3f(3.0e38));
-    return select(vec3f(0.0), v, ok);
+    let e = bitcast<vec3u>(v) & vec3u(0x7f800000u);
+    return select(vec3f(0.0), v, all(e != vec3u(0x7f800000u)));
 }
