@@ -9,6 +9,8 @@
 
 pub mod bvh;
 pub mod camera_path;
+#[cfg(test)]
+mod chi2;
 pub mod cli;
 pub mod control;
 pub mod error;

@@ -59,6 +59,43 @@ pub fn pcg_hash(v: u32) -> u32 {
     (word >> 22) ^ word
 }
 
+/// A random stream, as `Rng` in rng.wgsl.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rng {
+    pub state: u32,
+}
+
+impl Rng {
+    /// The stream for one pixel of one frame of one pass (`rng_for`).
+    pub fn new(pixel: (u32, u32), frame_index: u32, salt: u32, seed: u32) -> Rng {
+        let mut h = pcg_hash(seed ^ 0x9e37_79b9);
+        h = pcg_hash(h ^ salt);
+        h = pcg_hash(h ^ frame_index);
+        h = pcg_hash(h ^ pixel.1);
+        h = pcg_hash(h ^ pixel.0);
+        Rng { state: h }
+    }
+
+    pub fn next_u32(&mut self) -> u32 {
+        self.state = self.state.wrapping_mul(747796405).wrapping_add(2891336453);
+        let s = self.state;
+        let word = ((s >> ((s >> 28) + 4)) ^ s).wrapping_mul(277803737);
+        (word >> 22) ^ word
+    }
+
+    /// Uniform in [0, 1): 24 random bits (`rand_f32`).
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u32() >> 8) as f32 * (1.0 / 16777216.0)
+    }
+
+    /// Two of them (`rand2`).
+    pub fn next2(&mut self) -> Vec2 {
+        let a = self.next_f32();
+        let b = self.next_f32();
+        Vec2::new(a, b)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
