@@ -53,7 +53,7 @@ fn wgsl_structs_match_rust() {
         }};
     }
     check!("Camera", CameraGpu, [origin, tan_half_fov, right, aspect, up, forward]);
-    check!("Frame", FrameGpu, [camera, prev_camera, size, frame_index, accum_count, time, seed, scene_epoch, n_spheres, n_instances, n_triangles, n_lights, mask_threshold, background, epoch_frames, exact_one]);
+    check!("Frame", FrameGpu, [camera, prev_camera, size, frame_index, accum_count, time, seed, scene_epoch, n_spheres, n_instances, n_triangles, n_lights, mask_threshold, background, epoch_frames, exact_one, offset_scale]);
     check!("TriangleNormals", TriangleNormalsGpu, [n0, n1, n2]);
     check!("Mesh", MeshGpu, [bmin, first, bmax, count]);
     check!("Material", MaterialGpu, [albedo, specular, emission, roughness]);

@@ -34,6 +34,10 @@ struct Frame {
     // compensated (Kahan) arithmetic from being folded away (Mesa's NIR,
     // for one, treats float ops as reassociable; see shared/mean.wgsl).
     exact_one: f32,
+    // The scene's ray-offset scale (a power of two near half its extent):
+    // offset_ray's near-origin threshold and fixed offset grow with it, so
+    // a scene scaled by s offsets its rays by s too (src/bvh/offset.rs).
+    offset_scale: f32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

@@ -440,10 +440,12 @@ fn trace_any(ro: vec3f, rd: vec3f, tmax: f32) -> bool {
 
 // Moves a surface point off the surface along the geometric normal `n`
 // (pointing to the side the new ray leaves from), by a few ULPs scaled to
-// the magnitude of p (Wachter & Binder, Ray Tracing Gems ch. 6).
+// the magnitude of p (Wachter & Binder, Ray Tracing Gems ch. 6); near the
+// origin by a fixed amount relative to the scene's size (offset_scale), so
+// the offsets of a scaled scene scale with it.
 fn offset_ray(p: vec3f, n: vec3f) -> vec3f {
-    let origin = 1.0 / 32.0;
-    let float_scale = 1.0 / 65536.0;
+    let origin = frame.offset_scale * (1.0 / 32.0);
+    let float_scale = frame.offset_scale * (1.0 / 65536.0);
     let int_scale = 256.0;
     let of_i = vec3i(int_scale * n);
     let p_i = vec3f(

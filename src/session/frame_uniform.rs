@@ -74,5 +74,7 @@ pub struct FrameGpu {
     /// Always 1.0; shaders cannot know it at compile time, so a product
     /// with it keeps compensated arithmetic from being folded away.
     pub exact_one: f32,
-    pub _pad: [f32; 3],
+    /// The scene's ray-offset scale (`bvh::offset::offset_scale`).
+    pub offset_scale: f32,
+    pub _pad: [f32; 2],
 }

@@ -211,7 +211,8 @@ impl Session {
             background: data.background,
             epoch_frames: st.epoch_frames,
             exact_one: 1.0,
-            _pad: [0.0; 3],
+            offset_scale: self.scene.offset_scale,
+            _pad: [0.0; 2],
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let timings = self.executor.run_frame(&self.gpu, self.timing);

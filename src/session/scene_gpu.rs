@@ -20,6 +20,10 @@ pub struct SceneGpu {
     /// The last BVH update (build on load, refit/TLAS rebuild on motion).
     pub bvh_stats: BuildStats,
     pub buffers: SceneBuffers,
+    /// The ray-offset scale of the scene as loaded (its size does not change
+    /// when things move enough to matter: a power of two near half the
+    /// extent).
+    pub offset_scale: f32,
 }
 
 impl SceneGpu {
@@ -28,6 +32,7 @@ impl SceneGpu {
     pub fn new(gpu: &Gpu, scene: Scene) -> Result<SceneGpu, UserError> {
         let mut bvh = SceneBvh::default();
         let mut data = scene.pack();
+        let offset_scale = crate::bvh::offset::offset_scale(extent(&data));
         let bvh_stats = bvh.update(&mut data);
         check_scene_sizes(gpu, &data)?;
         let oom = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
@@ -37,7 +42,7 @@ impl SceneGpu {
         if let Some(e) = refused.into_iter().flatten().next() {
             return Err(UserError::new(format!("{} refused the scene's buffers: {e}; use fewer or smaller meshes", gpu.describe())));
         }
-        Ok(SceneGpu { scene, bvh, bvh_stats, buffers })
+        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale })
     }
 
     /// Moves the scene to time `t` and uploads what changed.
@@ -69,6 +74,28 @@ impl SceneGpu {
             EngineResource::Lights => b.lights.as_entire_binding(),
         }
     }
+}
+
+/// The longest side of the bounds of every triangle and sphere (0 for an
+/// empty scene).
+fn extent(data: &SceneData) -> f32 {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    let mut grow = |p: [f32; 3], r: f32| {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c] - r);
+            hi[c] = hi[c].max(p[c] + r);
+        }
+    };
+    for t in &data.triangles {
+        for p in [t.p0, t.p1, t.p2] {
+            grow(p, 0.0);
+        }
+    }
+    for s in &data.spheres {
+        grow(s.center, s.radius);
+    }
+    (0..3).map(|c| hi[c] - lo[c]).filter(|e| e.is_finite()).fold(0.0, f32::max)
 }
 
 /// Every scene array must fit its binding on this adapter: the texture
