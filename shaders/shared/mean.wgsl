@@ -9,15 +9,11 @@
 // - clean_sample keeps non-finite values out (checked by bits: a compiler
 //   may assume `x != x` is false) and negative radiance at zero.
 
+#import finite
+
 struct Mean {
     value: vec3f,
     comp: vec3f,
-}
-
-// Whether every component is finite (exponent bits not all ones).
-fn all_finite(v: vec3f) -> bool {
-    let e = bitcast<vec3u>(v) & vec3u(0x7f800000u);
-    return all(e != vec3u(0x7f800000u));
 }
 
 // Adds sample `x` to a mean of `count` samples. `one` must be 1.0 at run

@@ -1,4 +1,5 @@
 // Sampling and frame helpers (mirrored in src/sampling.rs).
+#import finite
 
 const PI: f32 = 3.14159265358979;
 
@@ -58,8 +59,6 @@ fn max3(v: vec3f) -> f32 {
 }
 
 // Replaces NaN/Inf with zero so one bad sample cannot poison an average.
-// By bits: a compiler may assume `v == v` always holds.
 fn finite_or_zero(v: vec3f) -> vec3f {
-    let e = bitcast<vec3u>(v) & vec3u(0x7f800000u);
-    return select(vec3f(0.0), v, all(e != vec3u(0x7f800000u)));
+    return select(vec3f(0.0), v, all_finite(v));
 }

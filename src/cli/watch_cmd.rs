@@ -72,7 +72,12 @@ fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop) -> Resu
                 Ok(report) => {
                     frames.time = args.time;
                     frames.stats = FrameStats::default();
-                    render_frames(args, &mut session, &mut frames, true)?;
+                    // A failed write (a full disk, a folder gone) is reported
+                    // and the watch goes on with the new state.
+                    if let Err(e) = render_frames(args, &mut session, &mut frames, true) {
+                        out!("{}", relative_to_cwd(&format!("error: {e} (the rebuild of {file} is in place; the output was not written)")));
+                        continue;
+                    }
                     let line = format!("reloaded {file}: {} passes rebuilt in {:.0} ms", report.rebuilt.len(), start.elapsed().as_secs_f64() * 1e3);
                     out!("{}", relative_to_cwd(&line));
                 }

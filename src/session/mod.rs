@@ -129,6 +129,9 @@ pub struct Session {
     retired: Vec<Retired>,
     /// Pipelines built since the session started (cache misses).
     pub pipelines_built: usize,
+    /// Bumped by every commit: what was derived from the graph or its
+    /// shaders (the viewer's param hints) is stale when it changes.
+    pub generation: u64,
 }
 
 impl Session {
@@ -157,6 +160,7 @@ impl Session {
         Ok(Session {
             gpu: gpu.clone(),
             pipelines_built: set.built.len(),
+            generation: 0,
             pipelines: set.cache,
             scene,
             graph,
@@ -354,6 +358,7 @@ impl Session {
         self.graph = r.graph;
         self.options = r.options;
         self.pipelines_built += report.rebuilt.len();
+        self.generation += 1;
         self.restart();
         Ok(report)
     }

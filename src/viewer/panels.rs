@@ -48,8 +48,9 @@ pub struct PanelState {
     pub active_profile: Option<usize>,
     /// The last reflection-reuse measurement, in words.
     pub reuse: Option<String>,
-    /// Hints per shader file, read once per shader source.
-    hints: BTreeMap<String, (u64, BTreeMap<String, Hint>)>,
+    /// Hints per shader file, read once per session generation.
+    hints: BTreeMap<String, BTreeMap<String, Hint>>,
+    hints_generation: u64,
 }
 
 impl PanelState {
@@ -64,19 +65,20 @@ impl PanelState {
             active_profile: matched_profile,
             reuse: None,
             hints: BTreeMap::new(),
+            hints_generation: 0,
         }
     }
 
-    fn hints_for(&mut self, shader: &str, source: &str) -> &BTreeMap<String, Hint> {
-        use std::hash::{Hash, Hasher};
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        source.hash(&mut h);
-        let key = h.finish();
-        let entry = self.hints.entry(shader.to_string()).or_insert_with(|| (key.wrapping_add(1), BTreeMap::new()));
-        if entry.0 != key {
-            *entry = (key, params_hints(source));
+    /// A shader's `// ui:` hints, parsed once until the session's graph or
+    /// shaders change (a commit bumps its generation).
+    fn hints_for(&mut self, session: &Session, shader: &str) -> &BTreeMap<String, Hint> {
+        if self.hints_generation != session.generation {
+            self.hints.clear();
+            self.hints_generation = session.generation;
         }
-        &entry.1
+        self.hints.entry(shader.to_string()).or_insert_with(|| {
+            session.graph.shaders.get(shader).map(|s| params_hints(&s.source.text)).unwrap_or_default()
+        })
     }
 }
 
@@ -140,9 +142,10 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>
 
 fn graphs(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut Vec<Action>) {
     egui::CollapsingHeader::new("graph").default_open(true).show(ui, |ui| {
-        let running = std::fs::canonicalize(&session.graph.path).unwrap_or_else(|_| session.graph.path.clone());
         let name = |p: &PathBuf| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         egui::ComboBox::from_id_salt("graph").selected_text(name(&session.graph.path)).show_ui(ui, |ui| {
+            // Only while the list is open: it touches the file system.
+            let running = std::fs::canonicalize(&session.graph.path).unwrap_or_else(|_| session.graph.path.clone());
             for g in &state.graphs {
                 let is = std::fs::canonicalize(g).is_ok_and(|c| c == running);
                 if ui.selectable_label(is, name(g)).clicked() && !is {
@@ -204,8 +207,7 @@ fn params(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut 
     egui::CollapsingHeader::new("params").default_open(false).show(ui, |ui| {
         for sp in &session.executor.schedule.passes {
             let Some(p) = &sp.params else { continue };
-            let source = session.graph.shaders.get(&sp.shader).map(|s| s.source.text.as_str()).unwrap_or("");
-            let hints = state.hints_for(&sp.shader, source).clone();
+            let hints = state.hints_for(session, &sp.shader);
             ui.label(RichText::new(&sp.name).strong());
             for m in &p.layout.members {
                 let Some(value) = p.values.get(&m.name) else { continue };

@@ -89,6 +89,9 @@ pub struct Present {
     float: Variant,
     uint: Variant,
     uniform: wgpu::Buffer,
+    /// The bind group of the texture shown last: made again only when the
+    /// texture changes (another resource, a rebuild), not every frame.
+    bound: Option<(wgpu::Texture, wgpu::BindGroup)>,
 }
 
 fn variant(device: &wgpu::Device, target: wgpu::TextureFormat, uint: bool) -> Variant {
@@ -154,6 +157,7 @@ impl Present {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
+            bound: None,
         };
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(UserError::new(format!("the present pass was refused: {e}")));
@@ -164,7 +168,7 @@ impl Present {
     /// Records drawing `texture` into `rect` of `target` (cleared first).
     #[allow(clippy::too_many_arguments)]
     pub fn draw(
-        &self,
+        &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         enc: &mut wgpu::CommandEncoder,
@@ -184,15 +188,19 @@ impl Present {
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&view));
         let v = if format.is_uint() { &self.uint } else { &self.float };
-        let src = texture.create_view(&Default::default());
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("present"),
-            layout: &v.layout,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: self.uniform.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&src) },
-            ],
-        });
+        if self.bound.as_ref().is_none_or(|(t, _)| t != texture) {
+            let src = texture.create_view(&Default::default());
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("present"),
+                layout: &v.layout,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: self.uniform.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&src) },
+                ],
+            });
+            self.bound = Some((texture.clone(), group));
+        }
+        let Some((_, group)) = self.bound.as_ref() else { return };
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("present"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -209,7 +217,7 @@ impl Present {
         if rect.w >= 1.0 && rect.h >= 1.0 {
             pass.set_viewport(rect.x, rect.y, rect.w, rect.h, 0.0, 1.0);
             pass.set_pipeline(&v.pipeline);
-            pass.set_bind_group(0, &group, &[]);
+            pass.set_bind_group(0, group, &[]);
             pass.draw(0..3, 0..1);
         }
     }
