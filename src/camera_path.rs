@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use glam::{Quat, Vec3};
+use glam::{DQuat, DVec3};
 use serde::Deserialize;
 
 use crate::error::{ron_error, UserError};
@@ -23,8 +23,9 @@ pub enum CameraPath {
 #[serde(deny_unknown_fields)]
 pub struct Key {
     pub time_s: f32,
-    pub position: (f32, f32, f32),
-    pub target: (f32, f32, f32),
+    /// f64, as scene positions are (a path may run far from the origin).
+    pub position: (f64, f64, f64),
+    pub target: (f64, f64, f64),
 }
 
 impl CameraPath {
@@ -44,7 +45,7 @@ impl CameraPath {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| UserError::in_file(path, format!("cannot read the camera path: {e}")))?;
             let keys: Vec<Key> = ron::Options::default().from_str(&text).map_err(|e| ron_error(path, &e))?;
-            let finite = |v: (f32, f32, f32)| v.0.is_finite() && v.1.is_finite() && v.2.is_finite();
+            let finite = |v: (f64, f64, f64)| v.0.is_finite() && v.1.is_finite() && v.2.is_finite();
             if keys.is_empty() || keys.iter().any(|k| !k.time_s.is_finite() || !finite(k.position) || !finite(k.target)) {
                 return Err(UserError::in_file(path, "a camera path needs at least one key, all numbers finite"));
             }
@@ -60,14 +61,14 @@ impl CameraPath {
     pub fn at(&self, base: &Camera, t: f32) -> Camera {
         match self {
             CameraPath::Orbit { deg_per_s } => {
-                let rot = Quat::from_rotation_y((deg_per_s * t).to_radians());
+                let rot = DQuat::from_rotation_y(f64::from(deg_per_s * t).to_radians());
                 Camera { position: base.target + rot * (base.position - base.target), ..*base }
             }
             CameraPath::Keys(keys) => {
-                let v = |p: (f32, f32, f32)| Vec3::new(p.0, p.1, p.2);
+                let v = |p: (f64, f64, f64)| DVec3::new(p.0, p.1, p.2);
                 let i = keys.iter().rposition(|k| k.time_s <= t).unwrap_or(0);
                 let (a, b) = (keys[i], keys[(i + 1).min(keys.len() - 1)]);
-                let s = if b.time_s > a.time_s { ((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0) } else { 0.0 };
+                let s = if b.time_s > a.time_s { f64::from(((t - a.time_s) / (b.time_s - a.time_s)).clamp(0.0, 1.0)) } else { 0.0 };
                 Camera {
                     position: v(a.position).lerp(v(b.position), s),
                     target: v(a.target).lerp(v(b.target), s),
@@ -81,16 +82,17 @@ impl CameraPath {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     fn base() -> Camera {
-        Camera { position: Vec3::new(0.0, 1.0, 3.0), target: Vec3::ZERO, up: Vec3::Y, vfov_deg: 40.0 }
+        Camera { position: DVec3::new(0.0, 1.0, 3.0), target: DVec3::ZERO, up: Vec3::Y, vfov_deg: 40.0 }
     }
 
     #[test]
     fn orbit_keeps_distance_and_height() {
         let p = CameraPath::parse("orbit:90").unwrap();
         let c = p.at(&base(), 1.0);
-        assert!((c.position - Vec3::new(3.0, 1.0, 0.0)).length() < 1e-5, "{:?}", c.position);
+        assert!((c.position - DVec3::new(3.0, 1.0, 0.0)).length() < 1e-5, "{:?}", c.position);
         assert_eq!(p.at(&base(), 0.0).position, base().position);
     }
 
@@ -101,9 +103,9 @@ mod tests {
         let file = dir.join("path.ron");
         std::fs::write(&file, "[Key(time_s: 0.0, position: (0.0, 0.0, 4.0), target: (0.0, 0.0, 0.0)),\n Key(time_s: 2.0, position: (2.0, 0.0, 4.0), target: (1.0, 0.0, 0.0))]").unwrap();
         let p = CameraPath::parse(&format!("keys:{}", file.display())).unwrap();
-        assert!((p.at(&base(), 1.0).position - Vec3::new(1.0, 0.0, 4.0)).length() < 1e-6);
-        assert_eq!(p.at(&base(), 5.0).target, Vec3::new(1.0, 0.0, 0.0));
-        assert_eq!(p.at(&base(), -1.0).position, Vec3::new(0.0, 0.0, 4.0));
+        assert!((p.at(&base(), 1.0).position - DVec3::new(1.0, 0.0, 4.0)).length() < 1e-6);
+        assert_eq!(p.at(&base(), 5.0).target, DVec3::new(1.0, 0.0, 0.0));
+        assert_eq!(p.at(&base(), -1.0).position, DVec3::new(0.0, 0.0, 4.0));
         std::fs::write(&file, "[Key(time_s: 1.0, position: (0.0, 0.0, 4.0), target: (0.0, 0.0, 0.0)),\n Key(time_s: 1.0, position: (2.0, 0.0, 4.0), target: (1.0, 0.0, 0.0))]").unwrap();
         assert!(CameraPath::parse(&format!("keys:{}", file.display())).unwrap_err().to_string().contains("increasing"));
         std::fs::write(&file, "[Key(time_s: 0.0, position: (0.0, 0.0), target: (0.0, 0.0, 0.0))]").unwrap();

@@ -26,6 +26,8 @@ struct Run<'a> {
     scene_dt: f32,
     seed: u32,
     output: Option<&'a str>,
+    /// Rebase the GPU's positions on a new origin before every frame.
+    rebase: bool,
 }
 
 impl Run<'_> {
@@ -43,6 +45,10 @@ impl Run<'_> {
         let mut r = session(gpu, scene, &compiled, SIZE, self.seed);
         for i in 0..self.frames {
             r.scene.scene.camera = path.at(&base, DT * i as f32);
+            if self.rebase {
+                let k = f64::from(i);
+                r.scene.rebase(&gpu.queue, glam::DVec3::new(0.37 * k, -0.21 * k, 0.5 * k));
+            }
             r.frame(self.scene_dt * i as f32);
         }
         r.read_output().unwrap_or_else(|e| panic!("{e}"))
@@ -50,7 +56,7 @@ impl Run<'_> {
 }
 
 fn run<'a>(graph: &'a str, scene: &'a str) -> Run<'a> {
-    Run { graph, scene, mode: 1, frames: 8, orbit: 0.0, scene_dt: 0.0, seed: 1, output: None }
+    Run { graph, scene, mode: 1, frames: 8, orbit: 0.0, scene_dt: 0.0, seed: 1, output: None, rebase: false }
 }
 
 /// Sample counts (accum_geo's w) per pixel.
@@ -87,6 +93,23 @@ fn history_survives_camera_motion_but_not_scene_changes() {
     // Moving lights change the scene every frame: all history dropped.
     let lights = Run { scene_dt: DT, output: Some("accum_geo"), ..run("direct.ron", "moving-lights.ron") };
     assert!(counts(&lights.render(gpu)).iter().all(|&n| n == 1.0), "moving lights must reset the history");
+}
+
+#[test]
+fn history_survives_rebasing_the_world() {
+    // Camera-relative rendering moves the origin the GPU's positions are
+    // relative to; the previous camera moves with it, so reprojection finds
+    // the same history as without rebasing.
+    let Some(gpu) = gpu() else { return };
+    let moving = Run { orbit: 30.0, output: Some("accum_geo"), ..run("direct.ron", "cornell.ron") };
+    let kept = |c: &[f32]| c.iter().filter(|&&n| n >= 7.0).count() as f32 / c.len() as f32;
+    let plain = counts(&moving.render(gpu));
+    let rebased = counts(&Run { rebase: true, ..moving }.render(gpu));
+    eprintln!("pixels with >= 7 samples: {:.3} plain, {:.3} rebased every frame", kept(&plain), kept(&rebased));
+    assert!(kept(&rebased) >= kept(&plain) - 0.01, "rebasing lost history: {} vs {}", kept(&rebased), kept(&plain));
+    let image = |rebase| Run { rebase, output: None, ..moving }.render(gpu);
+    let (flip, _) = metrics::flip(&image(false), &image(true));
+    assert!(flip.mean <= 0.01, "rebasing changed the image: FLIP mean {}", flip.mean);
 }
 
 #[test]

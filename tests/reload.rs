@@ -204,7 +204,7 @@ fn scene_edit_keeps_the_camera() {
     let path = ws.join("scenes/cornell.ron");
     let mut s = open(gpu, &ws, "cornell.ron", "hybrid.ron", CompileOptions::default());
     let original = s.scene.scene.camera;
-    s.scene.scene.camera.position = glam::Vec3::new(0.35, 0.25, 3.0);
+    s.scene.scene.camera.position = glam::DVec3::new(0.35, 0.25, 3.0);
     let moved = s.scene.scene.camera;
     assert_ne!(moved, original);
     let before = frames(&mut s, 2);

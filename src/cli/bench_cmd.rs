@@ -189,7 +189,7 @@ fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usiz
     let side = (copies as f32).cbrt().ceil().max(1.0) as usize;
     for k in 0..copies {
         let (i, j, l) = (k % side, (k / side) % side, k / (side * side));
-        let cell = glam::Vec3::new(i as f32, j as f32, l as f32) / side as f32 - glam::Vec3::splat(0.5);
+        let cell = glam::DVec3::new(i as f64, j as f64, l as f64) / side as f64 - glam::DVec3::splat(0.5);
         let mut t = base;
         t.scale *= 0.5 / side as f32;
         t.translation = base.translation + cell * 1.5;

@@ -203,9 +203,24 @@ impl SceneBuffers {
         }
     }
 
-    /// Uploads what differs from the last upload. The array lengths of one
-    /// scene never change (animation moves things, it does not add them).
+    /// Uploads what differs from the last upload and bumps `epoch` if
+    /// anything did. The array lengths of one scene never change (animation
+    /// moves things, it does not add them).
     pub fn update(&mut self, queue: &wgpu::Queue, data: SceneData) -> bool {
+        let changed = self.upload(queue, data);
+        if changed {
+            self.epoch = self.epoch.wrapping_add(1);
+        }
+        changed
+    }
+
+    /// Uploads the same scene relative to a new origin: nothing moved, so
+    /// the epoch (and with it the accumulated history) stays.
+    pub fn rebase(&mut self, queue: &wgpu::Queue, data: SceneData) {
+        self.upload(queue, data);
+    }
+
+    fn upload(&mut self, queue: &wgpu::Queue, data: SceneData) -> bool {
         let mut changed = false;
         fn write<T: Pod + PartialEq>(queue: &wgpu::Queue, buf: &wgpu::Buffer, old: &[T], new: &[T], changed: &mut bool) {
             if old != new && old.len() == new.len() && !new.is_empty() {
@@ -228,7 +243,6 @@ impl SceneBuffers {
         write_texture(queue, &self.instances, 0, &old.instances, &data.instances, &mut changed);
         changed |= old.background != data.background;
         if changed {
-            self.epoch = self.epoch.wrapping_add(1);
             self.data = data;
         }
         changed

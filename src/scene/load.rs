@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{EulerRot, Quat, Vec3};
+use glam::{DVec3, EulerRot, Quat, Vec3};
 use hecs::{EntityBuilder, World};
 use ron::extensions::Extensions;
 
@@ -100,12 +100,12 @@ impl<'a, 'l> Builder<'a, 'l> {
             validate::object(&ctx, o)?;
             let mut e = EntityBuilder::new();
             e.add(ObjectId(i as u32));
-            let mut translation = Vec3::ZERO;
+            let mut translation = DVec3::ZERO;
             match o {
                 ObjectDesc::Quad { vertices, material } => {
                     let material = self.material(&ctx, material)?;
-                    let mesh = self.quad(&ctx, vertices, material)?;
-                    e.add(Transform::IDENTITY).add(MeshShape { mesh });
+                    let (mesh, at) = self.quad(&ctx, vertices, material)?;
+                    e.add(Transform::from_translation(at)).add(MeshShape { mesh });
                     features.meshes = true;
                 }
                 ObjectDesc::Sphere {
@@ -114,7 +114,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     material,
                     ..
                 } => {
-                    translation = Vec3::from_array(*center);
+                    translation = DVec3::from_array(*center);
                     let material = self.material(&ctx, material)?;
                     e.add(Transform::from_translation(translation))
                         .add(SphereShape { radius: *radius })
@@ -134,7 +134,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                         None => None,
                     };
                     let mesh = self.obj_mesh(&ctx, path, material)?;
-                    translation = Vec3::from_array(*translate);
+                    translation = DVec3::from_array(*translate);
                     let [x, y, z] = rotate_deg.map(f32::to_radians);
                     let rotation = Quat::from_euler(EulerRot::XYZ, x, y, z);
                     e.add(Transform {
@@ -180,7 +180,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     e.add(Light::Sphere { radius, radiance })
                         .add(MaterialId(material));
                     features.area_lights = true;
-                    Vec3::from_array(center)
+                    DVec3::from_array(center)
                 }
                 LightDesc::PointLight {
                     position,
@@ -191,7 +191,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                         intensity: Vec3::from_array(intensity),
                     });
                     features.point_lights = true;
-                    Vec3::from_array(position)
+                    DVec3::from_array(position)
                 }
             };
             e.add(Transform::from_translation(translation));
@@ -210,8 +210,8 @@ impl<'a, 'l> Builder<'a, 'l> {
         Ok(Scene {
             world: self.world,
             camera: Camera {
-                position: Vec3::from_array(c.position),
-                target: Vec3::from_array(c.target),
+                position: DVec3::from_array(c.position),
+                target: DVec3::from_array(c.target),
                 up: Vec3::from_array(c.up),
                 vfov_deg: c.vfov_deg,
             },
@@ -249,25 +249,29 @@ impl<'a, 'l> Builder<'a, 'l> {
         ))
     }
 
-    /// Two triangles (v0 v1 v2) and (v0 v2 v3) with the quad's flat normal.
+    /// Two triangles (v0 v1 v2) and (v0 v2 v3) with the quad's flat normal,
+    /// in a mesh local to v0 (returned: the quad's translation), so a quad
+    /// far from the origin keeps its f64 precision.
     fn quad(
         &mut self,
         ctx: &Ctx,
-        vertices: &[[f32; 3]],
+        vertices: &[[f64; 3]],
         material: u32,
-    ) -> Result<usize, UserError> {
-        let v: Vec<Vec3> = vertices.iter().map(|&p| Vec3::from_array(p)).collect();
+    ) -> Result<(usize, DVec3), UserError> {
+        let v: Vec<DVec3> = vertices.iter().map(|&p| DVec3::from_array(p)).collect();
         let n = validate::quad_normal(&v)
             .ok_or_else(|| ctx.err("vertices", "the quad is degenerate (zero area)"))?;
+        let at = v[0];
+        let local: Vec<Vec3> = v.iter().map(|&p| (p - at).as_vec3()).collect();
         let tri = |a: usize, b: usize, c: usize| LocalTriangle {
-            p: [v[a], v[b], v[c]],
+            p: [local[a], local[b], local[c]],
             n: [n; 3],
             material,
         };
         self.meshes.push(MeshData {
             triangles: vec![tri(0, 1, 2), tri(0, 2, 3)],
         });
-        Ok(self.meshes.len() - 1)
+        Ok((self.meshes.len() - 1, at))
     }
 
     /// Loads (once per file and material override) the OBJ at `rel`, relative

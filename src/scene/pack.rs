@@ -1,7 +1,9 @@
-//! World → flat GPU arrays (world space), in a deterministic order: entities
-//! sorted by `ObjectId` (objects in file order, then lights).
+//! World → flat GPU arrays, in a deterministic order: entities sorted by
+//! `ObjectId` (objects in file order, then lights). Positions are f64 in
+//! the world and f32 on the GPU, relative to an origin the session keeps
+//! near the camera (camera-relative rendering; docs/ARCHITECTURE.md).
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::gpu_types::{
     LightGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, LIGHT_POINT, LIGHT_SPHERE,
@@ -11,19 +13,26 @@ use super::world::{
 };
 
 impl Scene {
-    /// Flatten the world into GPU arrays (world space). Deterministic order.
+    /// `pack_at` the world origin.
+    pub fn pack(&self) -> SceneData {
+        self.pack_at(DVec3::ZERO)
+    }
+
+    /// Flatten the world into GPU arrays, every position relative to
+    /// `origin` (computed in f64, rounded to f32 once). Deterministic order.
     ///
     /// Spheres: sphere objects, then one per sphere light (`light` = its
     /// index in `lights`). Meshes: one per quad or mesh object, each with a
     /// world-space box over its slice of `triangles`.
-    pub fn pack(&self) -> SceneData {
+    pub fn pack_at(&self, origin: DVec3) -> SceneData {
+        let at = |t: &Transform| (t.translation - origin).as_vec3();
         let mut spheres: Vec<(ObjectId, SphereGpu)> = Vec::new();
         for (id, t, s, m) in self
             .world
             .query::<(&ObjectId, &Transform, &SphereShape, &MaterialId)>()
             .iter()
         {
-            spheres.push((*id, sphere(*id, t.translation, s.radius, m.0, -1)));
+            spheres.push((*id, sphere(*id, at(t), s.radius, m.0, -1)));
         }
 
         let mut lights: Vec<(LightIndex, ObjectId, LightGpu, Option<SphereGpu>)> = Vec::new();
@@ -35,7 +44,7 @@ impl Scene {
             Option<&MaterialId>,
         )>();
         for (id, index, t, light, material) in query.iter() {
-            let p = t.translation;
+            let p = at(t);
             let (gpu, ball) = match (*light, material) {
                 (Light::Sphere { radius, radiance }, Some(m)) => (
                     light_gpu(p, radius, radiance, LIGHT_SPHERE),
@@ -73,7 +82,7 @@ impl Scene {
             let first = triangles.len() as u32;
             let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
             for tri in &data.triangles {
-                let p = tri.p.map(|p| t.point(p));
+                let p = tri.p.map(|p| t.point_from(origin, p));
                 let n = tri.n.map(|n| t.normal(n));
                 for q in p {
                     lo = lo.min(q);
@@ -117,6 +126,32 @@ impl Scene {
             background: self.background.into(),
             ..Default::default()
         }
+    }
+
+    /// The f64 bounds of every sphere (sphere lights included) and mesh
+    /// triangle; `None` for a scene without any.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let mut grow = |p: DVec3, r: f64| {
+            lo = lo.min(p - r);
+            hi = hi.max(p + r);
+        };
+        for (t, s) in self.world.query::<(&Transform, &SphereShape)>().iter() {
+            grow(t.translation, f64::from(s.radius));
+        }
+        for (t, l) in self.world.query::<(&Transform, &Light)>().iter() {
+            if let Light::Sphere { radius, .. } = *l {
+                grow(t.translation, f64::from(radius));
+            }
+        }
+        for (t, m) in self.world.query::<(&Transform, &MeshShape)>().iter() {
+            for tri in self.meshes.get(m.mesh).map_or(&[][..], |d| &d.triangles) {
+                for p in tri.p {
+                    grow(t.point(p), 0.0);
+                }
+            }
+        }
+        (lo.x <= hi.x).then_some((lo, hi))
     }
 
     /// Triangles over all mesh instances (quads count two).

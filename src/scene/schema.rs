@@ -9,6 +9,10 @@ use serde::de::{MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 
 pub(crate) type V3 = [f32; 3];
+/// A position (or a displacement between positions), parsed as f64 so a
+/// scene far from the origin keeps its precision until it is rebased on the
+/// camera (`SceneGpu`).
+pub(crate) type P3 = [f64; 3];
 
 #[derive(Debug, Deserialize)]
 #[serde(rename = "Scene", deny_unknown_fields)]
@@ -27,8 +31,8 @@ pub(crate) struct SceneDesc {
 #[derive(Debug, Deserialize)]
 #[serde(rename = "Camera", deny_unknown_fields)]
 pub(crate) struct CameraDesc {
-    pub position: V3,
-    pub target: V3,
+    pub position: P3,
+    pub target: P3,
     #[serde(default = "up_y")]
     pub up: V3,
     pub vfov_deg: f32,
@@ -59,11 +63,11 @@ pub(crate) struct MaterialDesc {
 #[serde(rename = "Object", deny_unknown_fields)]
 pub(crate) enum ObjectDesc {
     Quad {
-        vertices: Vec<V3>,
+        vertices: Vec<P3>,
         material: String,
     },
     Sphere {
-        center: V3,
+        center: P3,
         radius: f32,
         material: String,
         #[serde(default)]
@@ -72,7 +76,7 @@ pub(crate) enum ObjectDesc {
     Mesh {
         path: String,
         #[serde(default)]
-        translate: V3,
+        translate: P3,
         #[serde(default = "one")]
         scale: f32,
         #[serde(default)]
@@ -105,14 +109,14 @@ impl ObjectDesc {
 #[serde(rename = "Light", deny_unknown_fields)]
 pub(crate) enum LightDesc {
     SphereLight {
-        center: V3,
+        center: P3,
         radius: f32,
         radiance: V3,
         #[serde(default)]
         motion: Option<MotionDesc>,
     },
     PointLight {
-        position: V3,
+        position: P3,
         intensity: V3,
         #[serde(default)]
         motion: Option<MotionDesc>,
@@ -140,7 +144,7 @@ impl LightDesc {
 #[serde(rename = "Motion", deny_unknown_fields)]
 pub(crate) enum MotionDesc {
     Orbit {
-        center: V3,
+        center: P3,
         axis: V3,
         radius: f32,
         period_s: f32,
@@ -148,7 +152,7 @@ pub(crate) enum MotionDesc {
         phase_deg: f32,
     },
     Linear {
-        velocity: V3,
+        velocity: P3,
     },
 }
 

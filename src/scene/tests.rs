@@ -108,8 +108,8 @@ fn cornell_camera_and_background() {
     assert_eq!(
         s.camera,
         Camera {
-            position: Vec3::new(0.0, 0.0, 3.4),
-            target: Vec3::ZERO,
+            position: glam::DVec3::new(0.0, 0.0, 3.4),
+            target: glam::DVec3::ZERO,
             up: Vec3::Y,
             vfov_deg: 40.0
         }

@@ -1,17 +1,18 @@
 //! Checks on the values RON accepted (it takes `NaN`, `inf`, negative radii,
 //! ...). Each check names the offending item and finds its line in the file.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::locate::{Locator, Step};
-use super::schema::{CameraDesc, LightDesc, MaterialDesc, MotionDesc, ObjectDesc, V3};
+use super::schema::{CameraDesc, LightDesc, MaterialDesc, MotionDesc, ObjectDesc, P3, V3};
 use super::world::Motion;
 use crate::error::UserError;
 
 type Res<T> = Result<T, UserError>;
 
 /// A vector as written in RON: `(x, y, z)`.
-fn show(v: Vec3) -> String {
+fn show(v: impl Into<DVec3>) -> String {
+    let v: DVec3 = v.into();
     format!("({}, {}, {})", v.x, v.y, v.z)
 }
 
@@ -56,6 +57,19 @@ impl<'a, 'l> Ctx<'a, 'l> {
         }
     }
 
+    /// A finite position (f64).
+    fn place(&self, field: &'a str, v: P3) -> Res<DVec3> {
+        let v = DVec3::from_array(v);
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.err(
+                field,
+                format_args!("`{field}` has a NaN or infinite component: {}", show(v)),
+            ))
+        }
+    }
+
     /// Finite and every component >= 0 (colours, radiance, intensity).
     fn color(&self, field: &'a str, v: V3) -> Res<Vec3> {
         let v = self.finite(field, v)?;
@@ -90,9 +104,9 @@ impl<'a, 'l> Ctx<'a, 'l> {
 
 pub(crate) fn camera(c: &CameraDesc, loc: &Locator) -> Res<()> {
     let ctx = Ctx::new(loc, vec![Step::Field("camera")], "camera".into());
-    let position = ctx.finite("position", c.position)?;
-    let target = ctx.finite("target", c.target)?;
-    let up = ctx.finite("up", c.up)?;
+    let position = ctx.place("position", c.position)?;
+    let target = ctx.place("target", c.target)?;
+    let up = ctx.finite("up", c.up)?.as_dvec3();
     if !(c.vfov_deg > 0.0 && c.vfov_deg < 180.0) {
         return Err(ctx.err(
             "vfov_deg",
@@ -102,7 +116,7 @@ pub(crate) fn camera(c: &CameraDesc, loc: &Locator) -> Res<()> {
     let Some(dir) = (target - position).try_normalize() else {
         return Err(ctx.err("target", "`target` must differ from `position`"));
     };
-    if dir.cross(up).length_squared() < 1e-12 {
+    if up.try_normalize().is_none_or(|u| dir.cross(u).length_squared() < 1e-12) {
         return Err(ctx.err(
             "up",
             format_args!(
@@ -141,9 +155,9 @@ pub(crate) fn material(i: usize, name: &str, m: &MaterialDesc, loc: &Locator) ->
 pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
     match o {
         ObjectDesc::Quad { vertices, .. } => {
-            let v: Vec<Vec3> = vertices
+            let v: Vec<DVec3> = vertices
                 .iter()
-                .map(|&v| ctx.finite("vertices", v))
+                .map(|&v| ctx.place("vertices", v))
                 .collect::<Res<_>>()?;
             if v.len() != 4 {
                 return Err(ctx.err(
@@ -156,7 +170,7 @@ pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
             }
         }
         ObjectDesc::Sphere { center, radius, .. } => {
-            ctx.finite("center", *center)?;
+            ctx.place("center", *center)?;
             ctx.positive("radius", *radius)?;
         }
         ObjectDesc::Mesh {
@@ -169,7 +183,7 @@ pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
             if path.trim().is_empty() {
                 return Err(ctx.err("path", "`path` is empty"));
             }
-            ctx.finite("translate", *translate)?;
+            ctx.place("translate", *translate)?;
             ctx.positive("scale", *scale)?;
             ctx.finite("rotate_deg", *rotate_deg)?;
         }
@@ -180,14 +194,14 @@ pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
 /// The unit normal of a quad `v0 v1 v2 v3` (counter-clockwise = front):
 /// the cross product of the diagonals, which is twice the (vector) area even
 /// for a slightly non-planar quad. `None` when the area is zero.
-pub(crate) fn quad_normal(v: &[Vec3]) -> Option<Vec3> {
+pub(crate) fn quad_normal(v: &[DVec3]) -> Option<Vec3> {
     let [v0, v1, v2, v3] = v else { return None };
     let n = (*v2 - *v0).cross(*v3 - *v1);
     let scale = (*v2 - *v0)
         .length_squared()
         .max((*v3 - *v1).length_squared());
     // Relative test: a sliver far thinner than its size is degenerate too.
-    (n.length_squared() > 1e-12 * scale * scale).then(|| n.normalize())
+    (n.length_squared() > 1e-12 * scale * scale).then(|| n.normalize().as_vec3())
 }
 
 pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
@@ -198,7 +212,7 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
             radiance,
             ..
         } => {
-            ctx.finite("center", *center)?;
+            ctx.place("center", *center)?;
             ctx.positive("radius", *radius)?;
             ctx.color("radiance", *radiance)?;
         }
@@ -207,7 +221,7 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
             intensity,
             ..
         } => {
-            ctx.finite("position", *position)?;
+            ctx.place("position", *position)?;
             ctx.color("intensity", *intensity)?;
         }
     }
@@ -225,7 +239,7 @@ pub(crate) fn motion(parent: &Ctx, m: &MotionDesc) -> Res<Motion> {
             phase_deg,
         } => {
             let ctx = parent.child("motion", "Orbit");
-            let center = ctx.finite("center", center)?;
+            let center = ctx.place("center", center)?;
             let axis_v = ctx.finite("axis", axis)?;
             if !(radius.is_finite() && radius >= 0.0) {
                 return Err(ctx.err(
@@ -246,7 +260,7 @@ pub(crate) fn motion(parent: &Ctx, m: &MotionDesc) -> Res<Motion> {
         MotionDesc::Linear { velocity } => {
             let ctx = parent.child("motion", "Linear");
             Ok(Motion::Linear {
-                velocity: ctx.finite("velocity", velocity)?,
+                velocity: ctx.place("velocity", velocity)?,
             })
         }
     }

@@ -3,16 +3,18 @@
 
 use std::path::PathBuf;
 
-use glam::{Quat, Vec3};
+use glam::{DVec3, Quat, Vec3};
 
 use super::features::SceneFeatures;
 use super::gpu_types::MaterialGpu;
 
-/// The viewpoint. `vfov_deg` is the full vertical angle.
+/// The viewpoint. `vfov_deg` is the full vertical angle. Positions are
+/// f64, as every position in the world is: the GPU sees them rebased on an
+/// origin near the camera (`SceneGpu::origin`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
-    pub position: Vec3,
-    pub target: Vec3,
+    pub position: DVec3,
+    pub target: DVec3,
     pub up: Vec3,
     pub vfov_deg: f32,
 }
@@ -68,9 +70,11 @@ pub struct LocalTriangle {
 }
 
 /// Placement of an entity: world = translation + rotation * (scale * local).
+/// The translation is f64 (a scene may sit far from the origin); local
+/// coordinates are f32, relative to it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Transform {
-    pub translation: Vec3,
+    pub translation: DVec3,
     pub rotation: Quat,
     /// Uniform, so normals only need the rotation.
     pub scale: f32,
@@ -78,20 +82,27 @@ pub struct Transform {
 
 impl Transform {
     pub const IDENTITY: Transform = Transform {
-        translation: Vec3::ZERO,
+        translation: DVec3::ZERO,
         rotation: Quat::IDENTITY,
         scale: 1.0,
     };
 
-    pub fn from_translation(translation: Vec3) -> Self {
+    pub fn from_translation(translation: DVec3) -> Self {
         Transform {
             translation,
             ..Transform::IDENTITY
         }
     }
 
-    pub fn point(&self, p: Vec3) -> Vec3 {
-        self.translation + self.rotation * (self.scale * p)
+    /// The world position of local point `p`, in f64.
+    pub fn point(&self, p: Vec3) -> DVec3 {
+        self.translation + self.rotation.as_dquat() * (f64::from(self.scale) * p.as_dvec3())
+    }
+
+    /// The position of local point `p` relative to `origin`, rounded to f32
+    /// once (what the GPU sees, `Scene::pack_at`).
+    pub fn point_from(&self, origin: DVec3, p: Vec3) -> Vec3 {
+        ((self.translation - origin) + self.rotation.as_dquat() * (f64::from(self.scale) * p.as_dvec3())).as_vec3()
     }
 
     pub fn normal(&self, n: Vec3) -> Vec3 {
@@ -135,7 +146,7 @@ pub enum Light {
 
 /// Where `Linear` motion starts (the position written in the file).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BasePosition(pub Vec3);
+pub struct BasePosition(pub DVec3);
 
 /// How an entity's translation depends on time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -144,27 +155,27 @@ pub enum Motion {
     /// `u`, `v` are orthonormal and `u × v` is the axis (counter-clockwise
     /// seen from the axis tip). The position written in the file is not used.
     Orbit {
-        center: Vec3,
-        u: Vec3,
-        v: Vec3,
+        center: DVec3,
+        u: DVec3,
+        v: DVec3,
         radius: f32,
         period_s: f32,
         phase_rad: f32,
     },
     /// `base + velocity * t`.
-    Linear { velocity: Vec3 },
+    Linear { velocity: DVec3 },
 }
 
 impl Motion {
     /// An orbit around `axis` (any length but zero; `None` when zero or not finite).
     pub fn orbit(
-        center: Vec3,
+        center: DVec3,
         axis: Vec3,
         radius: f32,
         period_s: f32,
         phase_deg: f32,
     ) -> Option<Motion> {
-        let n = axis.try_normalize()?;
+        let n = axis.as_dvec3().try_normalize()?;
         let (u, _) = n.any_orthonormal_pair();
         let v = n.cross(u);
         Some(Motion::Orbit {
@@ -178,7 +189,7 @@ impl Motion {
     }
 
     /// Position at absolute time `t`.
-    pub fn position(&self, base: Vec3, t: f32) -> Vec3 {
+    pub fn position(&self, base: DVec3, t: f32) -> DVec3 {
         match *self {
             Motion::Orbit {
                 center,
@@ -190,10 +201,10 @@ impl Motion {
             } => {
                 // Wrap the time first so that large t keeps its precision.
                 let turns = (t / period_s).rem_euclid(1.0);
-                let phi = std::f32::consts::TAU * turns + phase_rad;
-                center + radius * (phi.cos() * u + phi.sin() * v)
+                let phi = f64::from(std::f32::consts::TAU * turns + phase_rad);
+                center + f64::from(radius) * (phi.cos() * u + phi.sin() * v)
             }
-            Motion::Linear { velocity } => base + velocity * t,
+            Motion::Linear { velocity } => base + velocity * f64::from(t),
         }
     }
 }
@@ -222,36 +233,51 @@ mod tests {
     #[test]
     fn orbit_basis_is_right_handed() {
         for axis in [Vec3::Y, Vec3::X, -Vec3::Z, Vec3::new(1.0, 2.0, -3.0)] {
-            let Some(Motion::Orbit { u, v, .. }) = Motion::orbit(Vec3::ZERO, axis, 1.0, 1.0, 0.0)
+            let Some(Motion::Orbit { u, v, .. }) = Motion::orbit(DVec3::ZERO, axis, 1.0, 1.0, 0.0)
             else {
                 panic!("orbit")
             };
-            assert!(u.dot(axis).abs() < 1e-6 && v.dot(axis).abs() < 1e-6);
-            assert!((u.cross(v) - axis.normalize()).length() < 1e-5);
+            let axis = axis.as_dvec3();
+            assert!(u.dot(axis).abs() < 1e-12 && v.dot(axis).abs() < 1e-12);
+            assert!((u.cross(v) - axis.normalize()).length() < 1e-12);
         }
-        assert!(Motion::orbit(Vec3::ZERO, Vec3::ZERO, 1.0, 1.0, 0.0).is_none());
-        assert!(Motion::orbit(Vec3::ZERO, Vec3::NAN, 1.0, 1.0, 0.0).is_none());
+        assert!(Motion::orbit(DVec3::ZERO, Vec3::ZERO, 1.0, 1.0, 0.0).is_none());
+        assert!(Motion::orbit(DVec3::ZERO, Vec3::NAN, 1.0, 1.0, 0.0).is_none());
     }
 
     #[test]
     fn orbit_position_is_periodic() {
-        let m = Motion::orbit(Vec3::new(0.0, 1.0, 0.0), Vec3::Y, 0.5, 4.0, 90.0).unwrap();
-        let a = m.position(Vec3::ZERO, 1.0);
-        let b = m.position(Vec3::ZERO, 5.0);
-        let c = m.position(Vec3::ZERO, 4001.0);
+        let m = Motion::orbit(DVec3::new(0.0, 1.0, 0.0), Vec3::Y, 0.5, 4.0, 90.0).unwrap();
+        let a = m.position(DVec3::ZERO, 1.0);
+        let b = m.position(DVec3::ZERO, 5.0);
+        let c = m.position(DVec3::ZERO, 4001.0);
         assert!((a - b).length() < 1e-5 && (a - c).length() < 1e-4);
-        assert!(((a - Vec3::Y).length() - 0.5).abs() < 1e-5);
+        assert!(((a - DVec3::Y).length() - 0.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn far_orbits_keep_their_precision() {
+        // At 1e7 an f32 position has a resolution of 1: the orbit is f64.
+        let centre = DVec3::new(1e7, -3e6, 7e6);
+        let m = Motion::orbit(centre, Vec3::Y, 0.25, 4.0, 0.0).unwrap();
+        for t in [0.0, 0.3, 1.7] {
+            let r = (m.position(DVec3::ZERO, t) - centre).length();
+            assert!((r - 0.25).abs() < 1e-7, "{r}");
+        }
     }
 
     #[test]
     fn transform_applies_scale_rotation_translation() {
         let t = Transform {
-            translation: Vec3::new(1.0, 0.0, 0.0),
+            translation: DVec3::new(1.0, 0.0, 0.0),
             rotation: Quat::from_rotation_y(std::f32::consts::FRAC_PI_2),
             scale: 2.0,
         };
         // Rotating +x by 90° about +y gives -z.
-        assert!((t.point(Vec3::X) - Vec3::new(1.0, 0.0, -2.0)).length() < 1e-6);
+        assert!((t.point(Vec3::X) - DVec3::new(1.0, 0.0, -2.0)).length() < 1e-6);
+        let far = Transform { translation: DVec3::new(1e7 + 0.5, 0.0, 0.0), ..t };
+        let rebased = far.point_from(DVec3::new(1e7, 0.0, 0.0), Vec3::X);
+        assert!((rebased - Vec3::new(0.5, 0.0, -2.0)).length() < 1e-6, "{rebased}");
         assert!((t.normal(Vec3::X) - Vec3::NEG_Z).length() < 1e-6);
     }
 }

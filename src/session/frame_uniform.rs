@@ -2,7 +2,7 @@
 //! counts. Mirrors `struct Frame` in `shaders/shared/frame.wgsl`.
 
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use crate::scene::Camera;
 
@@ -22,13 +22,14 @@ pub struct CameraGpu {
 }
 
 impl CameraGpu {
-    /// An orthonormal camera basis (right-handed, looking along `forward`).
-    pub fn new(c: &Camera, size: (u32, u32)) -> CameraGpu {
-        let forward = (c.target - c.position).try_normalize().unwrap_or(Vec3::NEG_Z);
+    /// An orthonormal camera basis (right-handed, looking along `forward`),
+    /// its position relative to `origin` (the scene's rebasing origin).
+    pub fn new(c: &Camera, origin: DVec3, size: (u32, u32)) -> CameraGpu {
+        let forward = (c.target - c.position).try_normalize().map_or(Vec3::NEG_Z, |f| f.as_vec3());
         let right = forward.cross(c.up).try_normalize().unwrap_or(Vec3::X);
         let up = right.cross(forward);
         CameraGpu {
-            origin: c.position.to_array(),
+            origin: (c.position - origin).as_vec3().to_array(),
             tan_half_fov: (c.vfov_deg.to_radians() * 0.5).tan(),
             right: right.to_array(),
             aspect: size.0 as f32 / size.1.max(1) as f32,

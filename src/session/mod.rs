@@ -98,7 +98,10 @@ struct FrameState {
     frame_index: u32,
     accum_count: u32,
     epoch_frames: u32,
-    last: Option<(CameraGpu, u32)>,
+    /// Last frame's camera (world, f64: re-expressed relative to the
+    /// current origin each frame, so a rebase keeps reprojection right) and
+    /// scene epoch.
+    last: Option<(crate::scene::Camera, u32)>,
 }
 
 /// Replaced GPU objects, dropped once the frames submitted before the swap
@@ -182,11 +185,15 @@ impl Session {
     pub fn frame(&mut self, time: f32) -> Vec<PassTimings> {
         self.release_retired();
         self.scene.animate(&self.gpu.queue, time);
-        let camera = CameraGpu::new(&self.scene.scene.camera, self.size);
+        let world_camera = self.scene.scene.camera;
+        self.scene.follow(&self.gpu.queue, world_camera.position);
+        let origin = self.scene.origin;
+        let camera = CameraGpu::new(&world_camera, origin, self.size);
         let epoch = self.scene.buffers.epoch;
         let st = &mut self.state;
         let prev_camera = match st.last {
             Some((c, e)) => {
+                let c = CameraGpu::new(&c, origin, self.size);
                 if c != camera || e != epoch {
                     st.accum_count = 0;
                 }
@@ -220,7 +227,7 @@ impl Session {
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         let timings = self.executor.run_frame(&self.gpu, self.timing);
-        st.last = Some((camera, epoch));
+        st.last = Some((world_camera, epoch));
         st.frame_index = st.frame_index.wrapping_add(1);
         st.accum_count = st.accum_count.saturating_add(1);
         st.epoch_frames = st.epoch_frames.saturating_add(1);

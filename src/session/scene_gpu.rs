@@ -1,6 +1,14 @@
 //! The scene on the GPU: the hecs world, its BVH and the scene buffers,
 //! kept in step. Built whole (on load or reload, possibly on another
 //! thread) and updated in place when things move.
+//!
+//! Camera-relative rendering: the world is f64; the GPU sees it relative to
+//! `origin`, which starts at the world origin and jumps to a grid point near
+//! the camera whenever the camera gets farther from it than a few scene
+//! sizes (`follow`). So a scene anywhere renders with the precision it has
+//! at the origin, and a camera that stays near its scene never rebases.
+
+use glam::DVec3;
 
 use crate::bvh::scene::{BuildStats, SceneBvh};
 use crate::error::UserError;
@@ -24,15 +32,27 @@ pub struct SceneGpu {
     /// when things move enough to matter: a power of two near half the
     /// extent).
     pub offset_scale: f32,
+    /// What the GPU's positions are relative to (world, f64): a multiple of
+    /// `offset_scale` in each component.
+    pub origin: DVec3,
 }
+
+/// The camera may get this many offset scales (about half the scene's
+/// extent each) away from the origin, in any axis, before the scene is
+/// rebased on it: positions on the GPU then stay within a few extents of
+/// the origin, where f32 keeps the precision the scene has at the world
+/// origin. Cameras that stay near their scene never rebase.
+pub const REBASE_SCALES: f64 = 8.0;
 
 impl SceneGpu {
     /// Packs the scene, builds its BVH and uploads it, inside error scopes:
     /// a driver that refuses the buffers is a clear error.
     pub fn new(gpu: &Gpu, scene: Scene) -> Result<SceneGpu, UserError> {
         let mut bvh = SceneBvh::default();
-        let mut data = scene.pack();
-        let offset_scale = crate::bvh::offset::offset_scale(extent(&data));
+        let extent = scene.bounds().map_or(0.0, |(lo, hi)| (hi - lo).max_element());
+        let offset_scale = crate::bvh::offset::offset_scale(extent as f32);
+        let origin = rebased_origin(DVec3::ZERO, scene.camera.position, offset_scale).unwrap_or(DVec3::ZERO);
+        let mut data = scene.pack_at(origin);
         let bvh_stats = bvh.update(&mut data);
         check_scene_sizes(gpu, &data)?;
         let oom = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
@@ -42,16 +62,36 @@ impl SceneGpu {
         if let Some(e) = refused.into_iter().flatten().next() {
             return Err(UserError::new(format!("{} refused the scene's buffers: {e}; use fewer or smaller meshes", gpu.describe())));
         }
-        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale })
+        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale, origin })
     }
 
     /// Moves the scene to time `t` and uploads what changed.
     pub fn animate(&mut self, queue: &wgpu::Queue, t: f32) {
         if self.scene.animate(t) {
-            let mut data = self.scene.pack();
+            let mut data = self.scene.pack_at(self.origin);
             self.bvh_stats = self.bvh.update(&mut data);
             self.buffers.update(queue, data);
         }
+    }
+
+    /// Rebases the GPU's positions on a grid point near `camera` if the
+    /// camera is too far from the current origin. The scene has not changed,
+    /// so history is kept (the epoch stays). Returns true if it rebased.
+    pub fn follow(&mut self, queue: &wgpu::Queue, camera: DVec3) -> bool {
+        let Some(origin) = rebased_origin(self.origin, camera, self.offset_scale) else {
+            return false;
+        };
+        self.rebase(queue, origin);
+        true
+    }
+
+    /// Re-expresses the GPU's positions relative to `origin` (refitting the
+    /// BVH: every box moved by the same amount), keeping the epoch.
+    pub fn rebase(&mut self, queue: &wgpu::Queue, origin: DVec3) {
+        self.origin = origin;
+        let mut data = self.scene.pack_at(origin);
+        self.bvh_stats = self.bvh.update(&mut data);
+        self.buffers.rebase(queue, data);
     }
 
     /// Override constants the engine gives every shader that declares them.
@@ -76,26 +116,16 @@ impl SceneGpu {
     }
 }
 
-/// The longest side of the bounds of every triangle and sphere (0 for an
-/// empty scene).
-fn extent(data: &SceneData) -> f32 {
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    let mut grow = |p: [f32; 3], r: f32| {
-        for c in 0..3 {
-            lo[c] = lo[c].min(p[c] - r);
-            hi[c] = hi[c].max(p[c] + r);
-        }
-    };
-    for t in &data.triangles {
-        for p in [t.p0, t.p1, t.p2] {
-            grow(p, 0.0);
-        }
+/// The origin to rebase on when `camera` is more than `REBASE_SCALES`
+/// offset scales from `origin` in some axis (`None`: keep `origin`): the
+/// camera rounded to a multiple of the offset scale, so rebased positions
+/// are exact differences of nearby grid values.
+pub fn rebased_origin(origin: DVec3, camera: DVec3, offset_scale: f32) -> Option<DVec3> {
+    let grid = f64::from(offset_scale);
+    if !camera.is_finite() || (camera - origin).abs().max_element() <= REBASE_SCALES * grid {
+        return None;
     }
-    for s in &data.spheres {
-        grow(s.center, s.radius);
-    }
-    (0..3).map(|c| hi[c] - lo[c]).filter(|e| e.is_finite()).fold(0.0, f32::max)
+    Some((camera / grid).round() * grid)
 }
 
 /// Every scene array must fit its binding on this adapter: the texture
@@ -141,4 +171,25 @@ fn check_scene_sizes(gpu: &Gpu, data: &SceneData) -> Result<(), UserError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_origin_follows_a_far_camera_on_a_grid() {
+        // Near the origin (within 8 offset scales): no rebase.
+        assert_eq!(rebased_origin(DVec3::ZERO, DVec3::new(0.0, 0.0, 3.4), 1.0), None);
+        assert_eq!(rebased_origin(DVec3::ZERO, DVec3::new(-8.0, 8.0, 0.0), 1.0), None);
+        // Farther: the camera rounded to the grid.
+        assert_eq!(rebased_origin(DVec3::ZERO, DVec3::new(1e7 + 0.3, -2.7, 3.4), 1.0), Some(DVec3::new(1e7, -3.0, 3.0)));
+        let grid = 1.0 / 1024.0;
+        let o = rebased_origin(DVec3::ZERO, DVec3::new(0.1, 0.0, 0.0), grid).expect("rebases");
+        assert_eq!((o.x / f64::from(grid)).fract(), 0.0);
+        assert!((o.x - 0.1).abs() <= f64::from(grid) / 2.0);
+        // Measured from the current origin, not the world's.
+        assert_eq!(rebased_origin(o, DVec3::new(0.1 + 7.0 * f64::from(grid), 0.0, 0.0), grid), None);
+        assert_eq!(rebased_origin(DVec3::ZERO, DVec3::new(f64::NAN, 0.0, 0.0), 1.0), None);
+    }
 }

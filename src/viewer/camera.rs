@@ -9,7 +9,7 @@
 //!
 //! The camera's `up` stays +y; the look direction never reaches it.
 
-use glam::{Quat, Vec3};
+use glam::{DQuat, DVec3};
 
 use crate::scene::Camera;
 
@@ -45,7 +45,7 @@ impl CameraControl {
     /// A speed that crosses the scene's camera-to-target distance in about
     /// two seconds.
     pub fn for_camera(c: &Camera) -> CameraControl {
-        let d = (c.target - c.position).length();
+        let d = (c.target - c.position).length() as f32;
         CameraControl { speed: if d.is_finite() && d > 0.0 { d * 0.5 } else { 1.0 }, keys: Keys::default() }
     }
 
@@ -62,16 +62,16 @@ impl CameraControl {
         if !self.keys.any() || dt.is_nan() || dt <= 0.0 {
             return false;
         }
-        let forward = (c.target - c.position).normalize_or(Vec3::NEG_Z);
-        let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
+        let forward = (c.target - c.position).normalize_or(DVec3::NEG_Z);
+        let right = forward.cross(DVec3::Y).normalize_or(DVec3::X);
         let k = |on: bool| if on { 1.0 } else { 0.0 };
         let dir = forward * (k(self.keys.forward) - k(self.keys.back))
             + right * (k(self.keys.right) - k(self.keys.left))
-            + Vec3::Y * (k(self.keys.up) - k(self.keys.down));
-        if dir == Vec3::ZERO {
+            + DVec3::Y * (k(self.keys.up) - k(self.keys.down));
+        if dir == DVec3::ZERO {
             return false;
         }
-        let step = dir.normalize() * self.speed * dt;
+        let step = dir.normalize() * f64::from(self.speed * dt);
         c.position += step;
         c.target += step;
         true
@@ -80,15 +80,16 @@ impl CameraControl {
 
 /// Yaw about +y and pitch about the camera's right axis, applied to `v`,
 /// with the pitch stopped short of the poles.
-fn turn(v: Vec3, dx: f32, dy: f32) -> Vec3 {
-    let yaw = Quat::from_rotation_y(-dx * LOOK_PER_PIXEL);
+fn turn(v: DVec3, dx: f32, dy: f32) -> DVec3 {
+    let (dx, dy, per_pixel) = (f64::from(dx), f64::from(dy), f64::from(LOOK_PER_PIXEL));
+    let yaw = DQuat::from_rotation_y(-dx * per_pixel);
     let v = yaw * v;
     let len = v.length();
     let elevation = (v.y / len).clamp(-1.0, 1.0).asin();
-    let limit = std::f32::consts::FRAC_PI_2 - POLE_MARGIN;
-    let new_elevation = (elevation - dy * LOOK_PER_PIXEL).clamp(-limit, limit);
-    let right = v.cross(Vec3::Y).normalize_or(Vec3::X);
-    Quat::from_axis_angle(right, new_elevation - elevation) * v
+    let limit = std::f64::consts::FRAC_PI_2 - f64::from(POLE_MARGIN);
+    let new_elevation = (elevation - dy * per_pixel).clamp(-limit, limit);
+    let right = v.cross(DVec3::Y).normalize_or(DVec3::X);
+    DQuat::from_axis_angle(right, new_elevation - elevation) * v
 }
 
 /// Mouse look (fly mode): turns the view direction about the camera.
@@ -110,9 +111,10 @@ pub fn orbit(c: &mut Camera, dx: f32, dy: f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     fn cam() -> Camera {
-        Camera { position: Vec3::new(0.0, 0.0, 3.0), target: Vec3::ZERO, up: Vec3::Y, vfov_deg: 40.0 }
+        Camera { position: DVec3::new(0.0, 0.0, 3.0), target: DVec3::ZERO, up: Vec3::Y, vfov_deg: 40.0 }
     }
 
     #[test]
@@ -122,8 +124,8 @@ mod tests {
         assert_eq!(ctl.speed, 1.5);
         ctl.keys.forward = true;
         assert!(ctl.fly(&mut c, 1.0));
-        assert!((c.position - Vec3::new(0.0, 0.0, 1.5)).length() < 1e-6);
-        assert!((c.target - Vec3::new(0.0, 0.0, -1.5)).length() < 1e-6);
+        assert!((c.position - DVec3::new(0.0, 0.0, 1.5)).length() < 1e-6);
+        assert!((c.target - DVec3::new(0.0, 0.0, -1.5)).length() < 1e-6);
         ctl.keys = Keys { right: true, ..Keys::default() };
         ctl.fly(&mut c, 2.0);
         assert!((c.position.x - 3.0).abs() < 1e-5, "{:?}", c.position);

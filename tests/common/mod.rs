@@ -1,6 +1,8 @@
 //! Helpers shared by the GPU integration tests.
 #![allow(dead_code)]
 
+pub mod scene_text;
+
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
