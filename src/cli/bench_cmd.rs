@@ -50,9 +50,9 @@ pub struct RaysArgs {
     pub obj: PathBuf,
     #[arg(long, default_value = "1920x1080", value_parser = super::parse_size)]
     pub size: (u32, u32),
-    /// ox,oy,oz,tx,ty,tz,vfov_deg (up is +y).
+    /// ox,oy,oz,tx,ty,tz,vfov_deg (up is +y); f64, as scene positions.
     #[arg(long, value_parser = parse_camera)]
-    pub camera: [f32; 7],
+    pub camera: [f64; 7],
     #[arg(long, default_value_t = 5)]
     pub runs: u32,
     /// Write the primary hit distance (inf on a miss) as a 1-channel EXR
@@ -61,9 +61,9 @@ pub struct RaysArgs {
     pub hitdist: Option<PathBuf>,
 }
 
-fn parse_camera(s: &str) -> Result<[f32; 7], String> {
-    let v: Vec<f32> = s.split(',').map(|x| x.trim().parse::<f32>()).collect::<Result<_, _>>().map_err(|e| format!("`{s}`: {e}"))?;
-    let arr: [f32; 7] = v.try_into().map_err(|_| format!("`{s}`: give 7 numbers: ox,oy,oz,tx,ty,tz,vfov_deg"))?;
+fn parse_camera(s: &str) -> Result<[f64; 7], String> {
+    let v: Vec<f64> = s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| format!("`{s}`: {e}"))?;
+    let arr: [f64; 7] = v.try_into().map_err(|_| format!("`{s}`: give 7 numbers: ox,oy,oz,tx,ty,tz,vfov_deg"))?;
     if arr.iter().any(|x| !x.is_finite()) || !(arr[6] > 0.0 && arr[6] < 180.0) {
         return Err(format!("`{s}`: all values must be finite and vfov in (0, 180)"));
     }
@@ -83,7 +83,7 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
         .map_err(|e| UserError::in_file(&args.obj, format!("cannot open the OBJ: {e}")))?;
     let c = args.camera;
     let text = format!(
-        "Scene(camera: Camera(position: ({}, {}, {}), target: ({}, {}, {}), vfov_deg: {}),\n\
+        "Scene(camera: Camera(position: ({:e}, {:e}, {:e}), target: ({:e}, {:e}, {:e}), vfov_deg: {}),\n\
          materials: {{ \"white\": Material(albedo: (0.8, 0.8, 0.8)) }},\n\
          objects: [ Mesh(path: {:?}, material: \"white\") ])",
         c[0], c[1], c[2], c[3], c[4], c[5], c[6], obj.display().to_string()

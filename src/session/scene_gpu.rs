@@ -35,6 +35,9 @@ pub struct SceneGpu {
     /// What the GPU's positions are relative to (world, f64): a multiple of
     /// `offset_scale` in each component.
     pub origin: DVec3,
+    /// A pinned origin is never moved by `follow` (set with `pin_origin`:
+    /// tests that trace in world coordinates).
+    pinned: bool,
 }
 
 /// The camera may get this many offset scales (about half the scene's
@@ -62,7 +65,7 @@ impl SceneGpu {
         if let Some(e) = refused.into_iter().flatten().next() {
             return Err(UserError::new(format!("{} refused the scene's buffers: {e}; use fewer or smaller meshes", gpu.describe())));
         }
-        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale, origin })
+        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale, origin, pinned: false })
     }
 
     /// Moves the scene to time `t` and uploads what changed.
@@ -78,11 +81,20 @@ impl SceneGpu {
     /// camera is too far from the current origin. The scene has not changed,
     /// so history is kept (the epoch stays). Returns true if it rebased.
     pub fn follow(&mut self, queue: &wgpu::Queue, camera: DVec3) -> bool {
+        if self.pinned {
+            return false;
+        }
         let Some(origin) = rebased_origin(self.origin, camera, self.offset_scale) else {
             return false;
         };
         self.rebase(queue, origin);
         true
+    }
+
+    /// Rebases on `origin` and keeps it there, wherever the camera goes.
+    pub fn pin_origin(&mut self, queue: &wgpu::Queue, origin: DVec3) {
+        self.pinned = true;
+        self.rebase(queue, origin);
     }
 
     /// Re-expresses the GPU's positions relative to `origin` (refitting the
