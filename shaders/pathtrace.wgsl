@@ -73,7 +73,7 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
         if rand_f32(rng) < m.specular {
             var dir = reflect(rd, n);
             if m.roughness > 0.0 {
-                dir = normalize(mix(dir, sample_cosine(n, rand2(rng)), m.roughness));
+                dir = sample_glossy(dir, n, m.roughness, rand2(rng));
             }
             if dot(dir, ng) <= 0.0 {
                 break;

@@ -1,7 +1,8 @@
 // Test pass (tests/samplers_gpu.rs): for each x, draws two numbers from the
 // pixel stream (x, row) of frame 0 and writes the sampled direction: row 0
 // sample_cosine around NORMAL, row 1 sample_cone around AXIS with
-// 1 - cos = ONE_MINUS_COS, row 2 the raw draws. The test draws the same
+// 1 - cos = ONE_MINUS_COS, row 2 the raw draws, row 3 sample_glossy of
+// MIRROR about NORMAL with ROUGHNESS. The test draws the same
 // with the Rust mirror (src/sampling.rs) and compares.
 #import frame
 #import rng
@@ -10,6 +11,8 @@
 const NORMAL: vec3f = vec3f(0.26726124, 0.5345225, 0.8017837);
 const AXIS: vec3f = vec3f(-0.2, 0.5, 0.84);
 const ONE_MINUS_COS: f32 = 0.0012507823;
+const MIRROR: vec3f = vec3f(0.6, -0.1, 0.79372539);
+const ROUGHNESS: f32 = 0.35;
 const SALT: u32 = 0xc41u;
 
 @group(0) @binding(0) var samples: texture_storage_2d<rgba32float, write>;
@@ -27,6 +30,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         v = sample_cosine(NORMAL, u);
     } else if id.y == 1u {
         v = sample_cone(normalize(AXIS), ONE_MINUS_COS, u);
+    } else if id.y == 3u {
+        v = sample_glossy(normalize(MIRROR), NORMAL, ROUGHNESS, u);
     }
     textureStore(samples, id.xy, vec4f(v, 1.0));
 }

@@ -186,12 +186,13 @@ pub fn gamma_q(a: f64, x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::{basis, sample_cone, sample_cosine, sphere_one_minus_cos, Rng, PI};
-    use glam::Vec2;
+    use crate::sampling::{basis, glossy_pdf, sample_cone, sample_cosine, sample_glossy, sphere_one_minus_cos, Rng, PI};
+    use glam::{DVec3, Vec2};
 
     const SAMPLES: usize = 1_000_000;
-    /// Cosine normals, cones: the tests this module runs, for Sidak.
-    const TESTS: usize = 8;
+    /// Cosine normals, cones and glossy lobes: the tests this module runs,
+    /// for Sidak.
+    const TESTS: usize = 16;
 
     #[test]
     fn gamma_q_matches_known_values() {
@@ -292,5 +293,102 @@ mod tests {
         };
         let out = cone_outcome(axis, sphere_one_minus_cos(1e4, 1.0), collapsed);
         assert!(out.p_value < 1e-6, "the test cannot tell a collapsed cone: p {}", out.p_value);
+    }
+
+    /// The glossy lobe binned about `r`: rows by angle from r up to the
+    /// lobe's edge theta_max (roughness < 1/2: sin theta_max = roughness /
+    /// (1 - roughness); else the whole sphere), spaced so that theta =
+    /// theta_max (1 - (1 - s)^2) for rows uniform in s. Near a narrow
+    /// lobe's edge the pdf grows like 1 / sqrt(theta_max - theta); in s the
+    /// integrand is smooth, so the midpoint rule gets the expected counts
+    /// right (on a grid of cos theta it did not: chi2 6217 on 68 dof at
+    /// grazing incidence). A sample past the edge lands in a zero-pdf cell.
+    fn glossy_outcome(n: Vec3, r: Vec3, roughness: f32, sampler: impl Fn(Vec3, Vec3, f32, Vec2) -> Vec3) -> Outcome {
+        let (rows, cols, sub) = (40usize, 80usize, 16usize);
+        let rough = f64::from(roughness);
+        let theta_max = if rough < 0.5 { (rough / (1.0 - rough)).asin() } else { std::f64::consts::PI };
+        let to_world = basis(r).as_dmat3();
+        let to_local = to_world.transpose();
+        let tau = std::f64::consts::TAU;
+        let mut o = vec![0u64; rows * cols + 1];
+        for u in draws(13) {
+            let l = (to_local * sampler(r, n, roughness, u).as_dvec3()).normalize();
+            let theta = l.z.clamp(-1.0, 1.0).acos();
+            if theta > theta_max * (1.0 + 1e-4) {
+                o[rows * cols] += 1;
+                continue;
+            }
+            let s = 1.0 - (1.0 - (theta / theta_max).min(1.0)).sqrt();
+            let row = ((s * rows as f64) as usize).min(rows - 1);
+            let phi = l.y.atan2(l.x).rem_euclid(tau);
+            let col = ((phi / tau * cols as f64) as usize).min(cols - 1);
+            o[row * cols + col] += 1;
+        }
+        let (n64, r64) = (n.as_dvec3(), r.as_dvec3());
+        let (ds, dphi) = (1.0 / rows as f64, tau / cols as f64);
+        let mut e = vec![0.0; rows * cols + 1];
+        for row in 0..rows {
+            for col in 0..cols {
+                let mut sum = 0.0;
+                for i in 0..sub {
+                    for j in 0..sub {
+                        let s = ds * (row as f64 + (i as f64 + 0.5) / sub as f64);
+                        let phi = dphi * (col as f64 + (j as f64 + 0.5) / sub as f64);
+                        let theta = theta_max * (1.0 - (1.0 - s) * (1.0 - s));
+                        let dtheta_ds = 2.0 * theta_max * (1.0 - s);
+                        let l = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+                        sum += glossy_pdf(r64, n64, rough, to_world * l) * theta.sin() * dtheta_ds;
+                    }
+                }
+                e[row * cols + col] = SAMPLES as f64 * sum * ds * dphi / (sub * sub) as f64;
+            }
+        }
+        test(&o, &e)
+    }
+
+    #[test]
+    fn glossy_pdf_integrates_to_one() {
+        let n = DVec3::new(0.1, 0.3, 0.95).normalize();
+        for (incident, roughness) in [(0.2, 0.25), (1.3, 0.25), (0.2, 0.5), (1.3, 0.75), (0.7, 1.0)] {
+            let r = reflected(n.as_vec3(), incident).as_dvec3();
+            let grid = Grid { rows: 200, cols: 400 };
+            let total: f64 = grid.expected(1, 8, |l| glossy_pdf(r, n, roughness, (basis(n.as_vec3()) * l).as_dvec3().normalize())).iter().sum();
+            assert!((total - 1.0).abs() < 5e-3, "incident {incident} roughness {roughness}: integral {total}");
+        }
+        // roughness 1 is the cosine lobe.
+        let d = DVec3::new(0.3, -0.2, 0.9).normalize();
+        assert!((glossy_pdf(DVec3::Z, n, 1.0, d) - d.dot(n) / std::f64::consts::PI).abs() < 1e-12);
+    }
+
+    /// The mirror direction of a ray arriving at `theta` radians from `n`.
+    fn reflected(n: Vec3, theta: f32) -> Vec3 {
+        let (t, _) = n.any_orthonormal_pair();
+        let incoming = -(n * theta.cos() + t * theta.sin());
+        incoming - 2.0 * incoming.dot(n) * n
+    }
+
+    #[test]
+    fn glossy_lobe_passes_chi_square() {
+        let level = sidak(0.01, TESTS);
+        let n = Vec3::new(0.1, 0.3, 0.95).normalize();
+        // Near-normal and grazing incidence; narrow (two preimages of a
+        // direction, a cone about r) to wide (one preimage) lobes.
+        for (incident, roughness) in [(0.2f32, 0.25f32), (1.3, 0.25), (0.2, 0.5), (1.3, 0.5), (0.2, 0.75), (1.3, 0.75), (0.7, 0.9), (1.5, 1.0)] {
+            let r = reflected(n, incident);
+            let out = glossy_outcome(n, r, roughness, sample_glossy);
+            eprintln!("glossy lobe, incidence {incident} rad, roughness {roughness}: chi2 {:.1}, dof {}, p {:.4}", out.chi2, out.dof, out.p_value);
+            assert_eq!(out.in_zero_cells, 0, "incidence {incident} roughness {roughness}: samples where the pdf is 0");
+            assert!(out.p_value > level, "incidence {incident} roughness {roughness}: p {} <= {level}", out.p_value);
+        }
+        // A plausible mistake, blending toward a uniform hemisphere
+        // direction instead of a cosine one, fails.
+        let uniform = |r: Vec3, n: Vec3, roughness: f32, u: Vec2| {
+            let (c, phi) = (u.x, 2.0 * PI * u.y);
+            let s = (1.0 - c * c).max(0.0).sqrt();
+            let h = basis(n) * Vec3::new(s * phi.cos(), s * phi.sin(), c);
+            (r * (1.0 - roughness) + h * roughness).normalize()
+        };
+        let out = glossy_outcome(n, reflected(n, 0.7), 0.75, uniform);
+        assert!(out.p_value < 1e-6, "the test cannot tell a wrong glossy sampler: p {}", out.p_value);
     }
 }

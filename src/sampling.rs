@@ -1,7 +1,7 @@
 //! The Rust mirror of shaders/shared/sampling.wgsl and rng.wgsl: the same
 //! formulas, so they can be tested exhaustively on the CPU.
 
-use glam::{Mat3, Vec2, Vec3};
+use glam::{DVec3, Mat3, Vec2, Vec3};
 
 pub const PI: f32 = std::f32::consts::PI;
 
@@ -33,6 +33,45 @@ pub fn sample_cone(axis: Vec3, one_minus_cos: f32, u: Vec2) -> Vec3 {
     let phi = 2.0 * PI * u.y;
     let local = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
     (basis(axis) * local).normalize()
+}
+
+/// The path tracer's glossy lobe: the mirror direction `r` blended toward
+/// a cosine-distributed direction around `n` by `roughness` (0 < roughness
+/// <= 1; the path tracer uses `r` itself at 0); pdf = `glossy_pdf`.
+pub fn sample_glossy(r: Vec3, n: Vec3, roughness: f32, u: Vec2) -> Vec3 {
+    (r * (1.0 - roughness) + sample_cosine(n, u) * roughness).normalize()
+}
+
+/// The solid-angle pdf of `sample_glossy`, by a change of variables (it
+/// has no simpler closed form). With a = (1 - roughness) r and c the
+/// cosine sample, d is the direction of v = a + roughness c: v lies on the
+/// sphere of radius `roughness` about a, so the c giving d solve
+/// |lambda d - a| = roughness for lambda = |v| > 0 (one root when
+/// roughness >= 1/2, which puts the origin inside that sphere; up to two
+/// inside a cone about r otherwise). Projecting that sphere onto the unit
+/// sphere scales solid angle by roughness^2 |c . d| / lambda^2, so
+/// pdf(d) = sum over the roots of (c . n / pi) lambda^2 / (roughness^2 |c . d|).
+pub fn glossy_pdf(r: DVec3, n: DVec3, roughness: f64, d: DVec3) -> f64 {
+    let a = (1.0 - roughness) * r;
+    let ad = a.dot(d);
+    let disc = ad * ad - a.length_squared() + roughness * roughness;
+    if disc <= 0.0 || roughness <= 0.0 {
+        return 0.0;
+    }
+    let root = disc.sqrt();
+    let mut pdf = 0.0;
+    for lambda in [ad + root, ad - root] {
+        if lambda <= 0.0 {
+            continue;
+        }
+        let c = (lambda * d - a) / roughness;
+        // c . d = (lambda - a . d) / roughness = +-root / roughness.
+        let cd = c.dot(d).abs();
+        if cd > 0.0 {
+            pdf += c.dot(n).max(0.0) / std::f64::consts::PI * lambda * lambda / (roughness * roughness * cd);
+        }
+    }
+    pdf
 }
 
 /// cos of the half-angle a sphere of radius r subtends at distance d > r.

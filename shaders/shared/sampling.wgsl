@@ -21,6 +21,14 @@ fn sample_cosine(n: vec3f, u: vec2f) -> vec3f {
     return normalize(basis(n) * local);
 }
 
+// The path tracer's glossy lobe: the mirror direction r blended toward a
+// cosine-distributed direction around n by `roughness` (in (0, 1]). Its
+// pdf has no simple closed form: src/sampling.rs derives it by a change of
+// variables (glossy_pdf) and src/chi2.rs tests this sampler against it.
+fn sample_glossy(r: vec3f, n: vec3f, roughness: f32, u: vec2f) -> vec3f {
+    return normalize(mix(r, sample_cosine(n, u), roughness));
+}
+
 // Cones are given by 1 - cos(half-angle), not the cosine: for a small or
 // far light the cosine rounds to 1 in f32 and 1 - cos_max cancels to 0
 // (a light of radius 1 at distance 1e4 has 1 - cos_max = 5e-9).
