@@ -26,9 +26,15 @@ var<private> primary_normal: vec4f;
 
 const SALT: u32 = 0x70617468u;
 
+// a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
+// the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
+// overflowed to inf / inf = NaN, and the path sample was dropped.
 fn power_heuristic(a: f32, b: f32) -> f32 {
-    let a2 = a * a;
-    return a2 / max(a2 + b * b, 1e-30);
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    let r = b / a;
+    return 1.0 / (1.0 + r * r);
 }
 
 fn trace_path(ro_in: vec3f, rd_in: vec3f, rng: ptr<function, Rng>) -> vec3f {

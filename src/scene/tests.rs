@@ -473,6 +473,12 @@ fn bad_lights_are_reported() {
 }
 
 #[test]
+fn a_zero_radius_sphere_light_points_at_point_lights() {
+    let light = LIGHT.replace("radius: 0.1", "radius: 0.0");
+    expect_err(&scene(SPHERE, &light), 11, "lights[0] (SphereLight): a sphere light of radius 0 has no area to emit from; for a light without size write PointLight");
+}
+
+#[test]
 fn nan_in_vectors_is_reported() {
     let objects = SPHERE.replace("center: (0.0, 0.0, 0.0)", "center: (0.0, NaN, 0.0)");
     expect_err(

@@ -213,6 +213,15 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
             ..
         } => {
             ctx.place("center", *center)?;
+            if *radius == 0.0 {
+                // Decided: not silently a point light, whose intensity
+                // would have to be invented from a radiance.
+                return Err(ctx.err(
+                    "radius",
+                    "a sphere light of radius 0 has no area to emit from; for a light without size write \
+                     PointLight(position: .., intensity: ..) (intensity = radiance x pi r^2 matches a small sphere's far field)",
+                ));
+            }
             ctx.positive("radius", *radius)?;
             ctx.color("radiance", *radiance)?;
         }
