@@ -11,6 +11,7 @@
 //! - a camera on a wall sees what a camera a hair inside the room sees;
 //! - a light touching the ceiling renders as one a hair below it;
 //! - a light of radius 1e-20 (its cone underflows f32) adds nothing.
+//!
 //! A sphere light of radius 0 is a load error that points at PointLight
 //! (tests in src/scene/tests.rs).
 
