@@ -23,6 +23,9 @@ struct Params {
 @group(0) @binding(6) var reflect_reuse: texture_storage_2d<r32float, write>;
 
 const SALT: u32 = 0x7265666cu;
+// Screen-space reuse accepts a G-buffer point this close to the hit's
+// tangent plane, as a share of the hit's distance from the camera.
+const REUSE_PLANE_TOL: f32 = 0.01;
 
 // The pixel showing world point x, or (-1, -1) when off screen.
 fn screen_pixel(x: vec3f) -> vec2i {
@@ -87,7 +90,14 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             if q.x >= 0 {
                 let qid = textureLoad(gbuf_id, q, 0);
                 let qn = textureLoad(gbuf_normal, q, 0).xyz;
-                if qid.y == hit.object && dot(qn, hn) > 0.95 {
+                // The same object, facing the same way, and the same surface:
+                // the G-buffer point lies on the hit's tangent plane within a
+                // share of the distance from the camera (relative, so it holds
+                // at any scale; a face of the object hidden behind another
+                // face of it projects to the same pixel and is rejected here).
+                let qp = textureLoad(gbuf_pos, q, 0).xyz;
+                let on_plane = abs(dot(qp - hit.position, hn)) <= REUSE_PLANE_TOL * length(hit.position - frame.camera.origin);
+                if qid.y == hit.object && dot(qn, hn) > 0.95 && on_plane {
                     diffuse = textureLoad(lit_in, q, 0).rgb;
                     from_screen = true;
                 }
