@@ -101,19 +101,32 @@ fn load_pfm(path: &Path) -> Result<ImageF32, UserError> {
     if fields[0] != "PF" {
         return Err(bad("it does not start with PF"));
     }
-    let w: u32 = fields[1].parse().map_err(|_| bad("bad width"))?;
-    let h: u32 = fields[2].parse().map_err(|_| bad("bad height"))?;
-    let scale: f32 = fields[3].parse().map_err(|_| bad("bad scale"))?;
-    let need = (w as usize) * (h as usize) * 12;
-    let data = bytes.get(at..at + need).ok_or_else(|| bad("the pixel data is short"))?;
+    let w: u32 = fields[1].parse().map_err(|_| bad(&format!("bad width `{}`", fields[1])))?;
+    let h: u32 = fields[2].parse().map_err(|_| bad(&format!("bad height `{}`", fields[2])))?;
+    let scale: f32 = fields[3].parse().map_err(|_| bad(&format!("bad scale `{}`", fields[3])))?;
+    if w == 0 || h == 0 {
+        return Err(bad(&format!("the header says {w}x{h}: an empty image")));
+    }
+    if !(scale.is_finite() && scale != 0.0) {
+        return Err(bad(&format!("the scale `{}` must be a finite non-zero number (its sign is the byte order)", fields[3])));
+    }
+    // Every size from the header in checked arithmetic: a header that says
+    // 2147483648 x 2147483648 must not wrap into a small buffer.
+    let need = u64::from(w).checked_mul(u64::from(h)).and_then(|n| n.checked_mul(12));
+    let have = (bytes.len() - at.min(bytes.len())) as u64;
+    let Some(need) = need.filter(|&n| n <= have) else {
+        return Err(bad(&format!("the header says {w}x{h} pixels ({} bytes of data) but the file holds {have} bytes after it", need.map_or_else(|| "more than 2^64".to_string(), |n| n.to_string()))));
+    };
+    let data = &bytes[at..at + need as usize];
+    let (wu, hu) = (w as usize, h as usize);
     let mut img = ImageF32::new(w, h);
     for (i, px) in data.chunks_exact(12).enumerate() {
         let f = |k: usize| {
             let b = [px[4 * k], px[4 * k + 1], px[4 * k + 2], px[4 * k + 3]];
             if scale < 0.0 { f32::from_le_bytes(b) } else { f32::from_be_bytes(b) }
         };
-        let (x, y) = (i as u32 % w, h - 1 - i as u32 / w);
-        img.data[(y * w + x) as usize] = [f(0), f(1), f(2), 1.0];
+        let (x, y) = (i % wu, hu - 1 - i / wu);
+        img.data[y * wu + x] = [f(0), f(1), f(2), 1.0];
     }
     Ok(img)
 }
@@ -183,7 +196,20 @@ mod tests {
         }
         assert!(load(&dir.join("missing.pfm")).is_err());
         std::fs::write(dir.join("bad.pfm"), "PF\n3 2\n-1.0\nshort").unwrap();
-        assert!(load(&dir.join("bad.pfm")).unwrap_err().to_string().contains("short"));
+        assert!(load(&dir.join("bad.pfm")).unwrap_err().to_string().contains("holds 5 bytes"));
+        // Sizes that wrap 32- or 64-bit arithmetic, an empty image, a bad scale.
+        for (header, says) in [
+            ("PF\n2147483648 2147483648\n-1.0\n", "2147483648x2147483648 pixels (more than 2^64"),
+            ("PF\n4294967295 4294967295\n-1.0\n", "4294967295x4294967295"),
+            ("PF\n0 5\n-1.0\n", "an empty image"),
+            ("PF\n1 1\nNaN\n", "finite non-zero"),
+            ("PF\n1 1\n0\n", "finite non-zero"),
+            ("PF\n-1 1\n-1.0\n", "bad width `-1`"),
+        ] {
+            std::fs::write(dir.join("huge.pfm"), header).unwrap();
+            let e = load(&dir.join("huge.pfm")).unwrap_err().to_string();
+            assert!(e.contains(says) && e.contains("huge.pfm"), "{header:?}: {e}");
+        }
         std::fs::remove_dir_all(&dir).ok();
     }
 

@@ -56,8 +56,8 @@ pub enum Command {
     Compare {
         reference: PathBuf,
         test: PathBuf,
-        /// Block size for the block-averaged relative error.
-        #[arg(long, default_value_t = 8)]
+        /// Block size for the block-averaged relative error (at least 1).
+        #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..))]
         block: u32,
     },
     /// Open a window on a scene: panels, fly/orbit camera, hot reload.
@@ -94,6 +94,13 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
 fn compare(reference: &std::path::Path, test: &std::path::Path, block: u32) -> Result<(), UserError> {
     let r = crate::image_io::load(reference)?;
     let t = crate::image_io::load(test)?;
+    // Metrics of non-finite pixels are NaN, and a gate written as
+    // "relmse > x fails" would pass them: refuse such input instead.
+    for (path, img) in [(reference, &r), (test, &t)] {
+        if let Some((count, x, y)) = crate::metrics::non_finite(img) {
+            return Err(UserError::in_file(path, format!("{count} pixels hold NaN or infinite values (the first at x {x}, y {y}); compare measures finite images")));
+        }
+    }
     if (r.width, r.height) != (t.width, t.height) {
         return Err(UserError::in_file(test, format!("is {}x{}, the reference is {}x{}", t.width, t.height, r.width, r.height)));
     }

@@ -114,12 +114,37 @@ where
 
 impl FrameGraph {
     pub fn parse(text: &str, path: &Path) -> Result<FrameGraph, UserError> {
-        ron::Options::default()
+        // A UTF-8 byte order mark is not RON; editors may write one.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let graph: FrameGraph = ron::Options::default()
             .with_default_extension(
                 ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES | ron::extensions::Extensions::IMPLICIT_SOME,
             )
             .from_str(text)
-            .map_err(|e| ron_error(path, &e))
+            .map_err(|e| ron_error(path, &e))?;
+        graph.check_sizes(text, path)?;
+        Ok(graph)
+    }
+
+    /// Texture sizes RON accepts but no texture has: a scale that is not a
+    /// positive finite number (NaN, inf, 0, negative) or that makes a side
+    /// of a 16384-pixel screen overflow, and fixed sides of 0.
+    fn check_sizes(&self, text: &str, path: &Path) -> Result<(), UserError> {
+        for (name, r) in &self.resources {
+            let ResourceDesc::Texture(t) = r;
+            let bad = match t.size {
+                SizeDesc::Scaled(s) if !(s.is_finite() && s > 0.0 && s <= 16.0) => {
+                    Some(format!("`Scaled({s})`: the scale must be a finite number in (0, 16]"))
+                }
+                SizeDesc::Fixed(w, h) if w == 0 || h == 0 => Some(format!("`Fixed({w}, {h})` is empty: both sides must be at least 1")),
+                _ => None,
+            };
+            if let Some(message) = bad {
+                let line = crate::error::line_of(text, &format!("\"{name}\"")).unwrap_or(0);
+                return Err(UserError::at(crate::error::Location::at(path, line, 0), format!("resource `{name}`: {message}")));
+            }
+        }
+        Ok(())
     }
 
     pub fn load(path: &Path) -> Result<FrameGraph, UserError> {

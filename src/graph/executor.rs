@@ -117,13 +117,27 @@ impl Executor {
         size: (u32, u32),
         previous: Option<&Executor>,
     ) -> Result<Executor, UserError> {
+        check_memory(gpu, schedule, size)?;
         let device = &gpu.device;
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let invalid = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let built = Self::create(gpu, schedule, pipelines, engine, size, previous);
-        let refused = [pollster::block_on(invalid.pop()), pollster::block_on(oom.pop())];
+        let invalid = pollster::block_on(invalid.pop());
+        let oom = pollster::block_on(oom.pop());
         let executor = built?;
-        if let Some(e) = refused.into_iter().flatten().next() {
+        // Out of memory first: the validation errors that follow it are
+        // about the objects it left invalid.
+        if let Some(e) = oom {
+            return Err(UserError::new(format!(
+                "graph `{}` at {}x{}: {} ran out of memory for its textures ({:.2} GiB in all): {e}; render smaller",
+                schedule.name,
+                size.0,
+                size.1,
+                gpu.describe(),
+                texture_bytes(schedule, size) as f64 / GIB
+            )));
+        }
+        if let Some(e) = invalid {
             return Err(UserError::new(format!("graph `{}`: {} refused its textures or bind groups: {e}", schedule.name, gpu.describe())));
         }
         Ok(executor)
@@ -344,4 +358,59 @@ impl Executor {
     pub fn pass_names(&self) -> Vec<&str> {
         self.schedule.passes.iter().map(|p| p.name.as_str()).collect()
     }
+}
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// The bytes of one physical texture at `size`.
+fn one_texture_bytes(t: &PhysicalTexture, size: (u32, u32)) -> u64 {
+    let (w, h) = t.size.resolve(size);
+    u64::from(w) * u64::from(h) * t.format.bytes_per_pixel()
+}
+
+/// The bytes of every texture the executor creates at `size` (a history
+/// resource's two textures are two physical textures).
+fn texture_bytes(schedule: &Schedule, size: (u32, u32)) -> u64 {
+    schedule.textures.iter().map(|t| one_texture_bytes(t, size)).sum()
+}
+
+/// Refuses, before creating anything, a schedule whose textures cannot fit:
+/// on a CPU adapter (lavapipe), textures live in system memory, so more
+/// than 3/4 of what the system has available is refused with the figures;
+/// a GPU's memory cannot be queried, so there the out-of-memory error
+/// scope around creation reports it.
+fn check_memory(gpu: &Gpu, schedule: &Schedule, size: (u32, u32)) -> Result<(), UserError> {
+    if gpu.info.device_type != wgpu::DeviceType::Cpu {
+        return Ok(());
+    }
+    let Some(available) = available_memory() else { return Ok(()) };
+    let need = texture_bytes(schedule, size);
+    if need as f64 <= 0.75 * available as f64 {
+        return Ok(());
+    }
+    let mut largest: Vec<(u64, &str)> = schedule.textures.iter().map(|t| (one_texture_bytes(t, size), t.label.as_str())).collect();
+    largest.sort_by_key(|l| std::cmp::Reverse(l.0));
+    let list: Vec<String> = largest.iter().take(3).map(|(b, l)| format!("{l} {:.2} GiB", *b as f64 / GIB)).collect();
+    Err(UserError::new(format!(
+        "graph `{}` at {}x{} needs {:.2} GiB of textures (largest: {}), more than 3/4 of the {:.2} GiB this machine has available for {}; render smaller",
+        schedule.name,
+        size.0,
+        size.1,
+        need as f64 / GIB,
+        list.join(", "),
+        available as f64 / GIB,
+        gpu.describe()
+    )))
+}
+
+/// MemAvailable from /proc/meminfo (Linux), in bytes, or less where a
+/// cgroup v2 memory limit leaves less.
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    let system = kib.checked_mul(1024)?;
+    let read = |f: &str| std::fs::read_to_string(f).ok().and_then(|t| t.trim().parse::<u64>().ok());
+    let cgroup = read("/sys/fs/cgroup/memory.max").map(|max| max.saturating_sub(read("/sys/fs/cgroup/memory.current").unwrap_or(0)));
+    Some(cgroup.map_or(system, |c| c.min(system)))
 }

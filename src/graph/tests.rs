@@ -902,3 +902,15 @@ fn shipped_pathtrace_keeps_everything() -> Result<(), UserError> {
     }
     Ok(())
 }
+
+#[test]
+fn a_byte_order_mark_is_skipped_and_bad_sizes_are_refused() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/passes/direct.ron")).unwrap();
+    let path = std::path::Path::new("direct.ron");
+    assert!(FrameGraph::parse(&format!("\u{feff}{text}"), path).is_ok());
+    for (size, says) in [("Scaled(NaN)", "Scaled(NaN)"), ("Scaled(-1.0)", "Scaled(-1)"), ("Scaled(inf)", "Scaled(inf)"), ("Fixed(0, 8)", "is empty")] {
+        let bad = text.replacen("Texture(format: Rgba32Float)", &format!("Texture(format: Rgba32Float, size: {size})"), 1);
+        let e = FrameGraph::parse(&bad, path).unwrap_err().to_string();
+        assert!(e.starts_with("direct.ron:") && e.contains(says), "{size}: {e}");
+    }
+}

@@ -28,6 +28,16 @@ pub fn flip(reference: &ImageF32, test: &ImageF32) -> (FlipStats, Vec<u8>) {
     (stats, colored)
 }
 
+/// How many pixels of `img` hold a NaN or infinite colour value, and the
+/// first of them (x, y); `None` when all are finite.
+pub fn non_finite(img: &ImageF32) -> Option<(usize, u32, u32)> {
+    let bad = |p: &[f32; 4]| !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite());
+    let first = img.data.iter().position(bad)?;
+    let count = img.data.iter().filter(|p| bad(p)).count();
+    let w = img.width.max(1) as usize;
+    Some((count, (first % w) as u32, (first / w) as u32))
+}
+
 /// Relative MSE: mean over pixels and channels of (x - y)^2 / (y^2 + eps).
 pub fn rel_mse(reference: &ImageF32, test: &ImageF32) -> f64 {
     let mut sum = 0.0;

@@ -37,6 +37,8 @@ pub fn load(path: &Path) -> Result<Scene, UserError> {
 /// Like `load`, from text; `path` names the file in messages and OBJ paths
 /// are resolved relative to its folder.
 pub fn parse(text: &str, path: &Path) -> Result<Scene, UserError> {
+    // A UTF-8 byte order mark is not RON; editors may write one.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     // implicit_some: optional fields are written bare (`motion: Orbit(..)`).
     let desc: SceneDesc = ron::Options::default()
         .with_default_extension(Extensions::IMPLICIT_SOME)

@@ -1,0 +1,102 @@
+//! Bad input through the release binary (issue 16), table-driven: each
+//! case must exit 2 without a panic, and its message must name the file
+//! (with its line where the input has lines) and the problem. Cases that
+//! are valid but were mishandled (a byte order mark) must work.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::*;
+
+fn glint(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .current_dir(repo())
+        .env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()))
+        .output()
+        .expect("run glint");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
+    (out.status.code().unwrap_or(-1), stderr)
+}
+
+fn pfm(path: &Path, header: &str, pixels: &[[f32; 3]]) -> String {
+    let mut bytes = header.as_bytes().to_vec();
+    for p in pixels {
+        for c in p {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    std::fs::write(path, bytes).expect("write pfm");
+    path.display().to_string()
+}
+
+/// Available memory in GiB from /proc/meminfo, if readable.
+fn available_gib() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let kib: f64 = text.lines().find(|l| l.starts_with("MemAvailable:"))?.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1048576.0)
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = scratch("bad-input");
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = pfm(&dir.join("good.pfm"), "PF\n2 1\n-1.0\n", &[[0.5, 0.5, 0.5], [1.0, 0.0, 0.0]]);
+    let nan = pfm(&dir.join("nan.pfm"), "PF\n2 1\n-1.0\n", &[[f32::NAN, 0.5, 0.5], [1.0, 0.0, 0.0]]);
+    let inf = pfm(&dir.join("inf.pfm"), "PF\n2 1\n-1.0\n", &[[0.5, 0.5, 0.5], [f32::INFINITY, 0.0, 0.0]]);
+    let huge = pfm(&dir.join("huge.pfm"), "PF\n2147483648 2147483648\n-1.0\n", &[]);
+    let wide = pfm(&dir.join("wide.pfm"), "PF\n4294967295 1\n-1.0\n", &[]);
+    let graph = |name: &str, size: &str| {
+        let text = std::fs::read_to_string(repo().join("passes/direct.ron")).unwrap().replacen("Texture(format: Rgba32Float)", &format!("Texture(format: Rgba32Float, size: {size})"), 1);
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path.display().to_string()
+    };
+    let nan_scale = graph("nan-scale.ron", "Scaled(NaN)");
+    let zero_scale = graph("zero-scale.ron", "Scaled(0.0)");
+    let empty_fixed = graph("empty-fixed.ron", "Fixed(0, 8)");
+    let out = dir.join("x.png").display().to_string();
+    // (what, args, text the message must hold)
+    let cases: Vec<(&str, Vec<&str>, Vec<&str>)> = vec![
+        ("a PFM header of 2^31 x 2^31 and no data", vec!["compare", &huge, &huge], vec!["huge.pfm", "2147483648x2147483648"]),
+        ("a PFM header wider than the data", vec!["compare", &wide, &good], vec!["wide.pfm", "holds 0 bytes"]),
+        ("NaN pixels in a compared image", vec!["compare", &good, &nan], vec!["nan.pfm", "1 pixels hold NaN or infinite values", "x 0, y 0"]),
+        ("an infinite pixel in the reference", vec!["compare", &inf, &good], vec!["inf.pfm", "x 1, y 0"]),
+        ("--block 0", vec!["compare", &good, &good, "--block", "0"], vec!["--block", "0"]),
+        ("a texture Scaled(NaN)", vec!["graph", "check", &nan_scale], vec!["nan-scale.ron:", "Scaled(NaN)", "finite number in (0, 16]"]),
+        ("a texture Scaled(0)", vec!["graph", "check", &zero_scale], vec!["zero-scale.ron:", "Scaled(0)"]),
+        ("a texture Fixed(0, 8)", vec!["graph", "check", &empty_fixed], vec!["empty-fixed.ron:", "Fixed(0, 8)` is empty"]),
+    ];
+    let mut failed = Vec::new();
+    for (what, args, needles) in &cases {
+        let (code, err) = glint(args);
+        if code != 2 || !needles.iter().all(|n| err.contains(n)) {
+            failed.push(format!("{what}: exit {code}, message: {err}"));
+        }
+    }
+    // Textures that cannot fit in memory: refused with the figures before
+    // anything is created (lavapipe keeps textures in system memory). Only
+    // where 16384x16384 of direct.ron (44 GiB) is beyond what is available.
+    if gpu().is_some() && available_gib().is_some_and(|g| g < 40.0) {
+        let (code, err) = glint(&["render", "scenes/cornell.ron", "--graph", "passes/direct.ron", "--size", "16384x16384", "--frames", "1", "--out", &out]);
+        if code != 2 || !err.contains("needs 44.00 GiB of textures") || !err.contains("render smaller") {
+            failed.push(format!("16384x16384: exit {code}, message: {err}"));
+        }
+    }
+    assert!(failed.is_empty(), "{} of {} cases failed:\n{}", failed.len(), cases.len() + 1, failed.join("\n"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_byte_order_mark_is_not_an_error() {
+    let dir = scratch("bom");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("bom.ron");
+    std::fs::write(&scene, format!("\u{feff}{}", std::fs::read_to_string(repo().join("scenes/cornell.ron")).unwrap())).unwrap();
+    let (code, err) = glint(&["graph", "check", "passes/direct.ron", "--scene", &scene.display().to_string()]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
