@@ -32,12 +32,13 @@ impl CameraPath {
     /// Parses `orbit:DEG_PER_S` or `keys:FILE.ron` (a list of `Key`s).
     pub fn parse(arg: &str) -> Result<CameraPath, UserError> {
         if let Some(rate) = arg.strip_prefix("orbit:") {
+            // Beyond a turn per millisecond the path is noise, not motion.
             let deg_per_s: f32 = rate
                 .trim()
                 .parse()
                 .ok()
-                .filter(|r: &f32| r.is_finite())
-                .ok_or_else(|| UserError::new(format!("--camera-path orbit:{rate}: give degrees per second, e.g. orbit:30")))?;
+                .filter(|r: &f32| r.is_finite() && r.abs() <= 360_000.0)
+                .ok_or_else(|| UserError::new(format!("--camera-path orbit:{rate}: give degrees per second within +-360000, e.g. orbit:30")))?;
             return Ok(CameraPath::Orbit { deg_per_s });
         }
         if let Some(file) = arg.strip_prefix("keys:") {
@@ -55,6 +56,32 @@ impl CameraPath {
             return Ok(CameraPath::Keys(keys));
         }
         Err(UserError::new(format!("--camera-path `{arg}`: write orbit:DEG_PER_S or keys:FILE.ron")))
+    }
+
+    /// Checks every key against the scene's camera as the scene file's
+    /// camera is checked: the target must differ from the position and the
+    /// view must not look along `up`, and the path must stay within 1e15 of
+    /// the scene's camera (f32 squared distances on the GPU overflow past
+    /// about 1e19).
+    pub fn check(&self, base: &Camera) -> Result<(), UserError> {
+        let CameraPath::Keys(keys) = self else { return Ok(()) };
+        for (i, k) in keys.iter().enumerate() {
+            let p = DVec3::new(k.position.0, k.position.1, k.position.2);
+            let t = DVec3::new(k.target.0, k.target.1, k.target.2);
+            let at = format!("camera path key {i} (time_s {})", k.time_s);
+            let Some(dir) = (t - p).try_normalize() else {
+                return Err(UserError::new(format!("{at}: `target` must differ from `position`")));
+            };
+            let up = base.up.as_dvec3().normalize_or_zero();
+            if dir.cross(up).length_squared() < 1e-12 {
+                return Err(UserError::new(format!("{at}: the view looks straight along the camera's `up` {:?}, which leaves no image orientation", base.up)));
+            }
+            let far = (p - base.position).abs().max_element().max((t - base.position).abs().max_element());
+            if far > 1e15 {
+                return Err(UserError::new(format!("{at}: {far:e} from the scene's camera; keys must stay within 1e15 of it")));
+            }
+        }
+        Ok(())
     }
 
     /// The camera at time `t`, starting from the scene's camera.
@@ -114,7 +141,18 @@ mod tests {
     }
 
     #[test]
+    fn keys_are_checked_like_the_scene_camera() {
+        let keys = |p: (f64, f64, f64), t: (f64, f64, f64)| CameraPath::Keys(vec![Key { time_s: 0.0, position: p, target: t }]);
+        assert!(keys((0.0, 0.0, 4.0), (0.0, 0.0, 0.0)).check(&base()).is_ok());
+        let e = |p, t| keys(p, t).check(&base()).unwrap_err().to_string();
+        assert!(e((1.0, 1.0, 1.0), (1.0, 1.0, 1.0)).contains("must differ"));
+        assert!(e((0.0, 0.0, 0.0), (0.0, 5.0, 0.0)).contains("along the camera's `up`"));
+        assert!(e((0.0, 0.0, 3e38), (0.0, 0.0, 0.0)).contains("within 1e15"));
+    }
+
+    #[test]
     fn bad_arguments_are_refused() {
+        assert!(CameraPath::parse("orbit:3e38").is_err());
         assert!(CameraPath::parse("orbit:fast").is_err());
         assert!(CameraPath::parse("orbit:NaN").is_err());
         assert!(CameraPath::parse("spiral:3").is_err());

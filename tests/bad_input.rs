@@ -59,6 +59,12 @@ fn bad_input_is_a_clear_error() {
     let zero_scale = graph("zero-scale.ron", "Scaled(0.0)");
     let empty_fixed = graph("empty-fixed.ron", "Fixed(0, 8)");
     let out = dir.join("x.png").display().to_string();
+    let same = dir.join("same.ron");
+    std::fs::write(&same, "[Key(time_s: 0.0, position: (1.0, 1.0, 1.0), target: (1.0, 1.0, 1.0))]").unwrap();
+    let same = format!("keys:{}", same.display());
+    let far = dir.join("far.ron");
+    std::fs::write(&far, "[Key(time_s: 0.0, position: (0.0, 0.0, 3e38), target: (0.0, 0.0, 0.0))]").unwrap();
+    let far = format!("keys:{}", far.display());
     // (what, args, text the message must hold)
     let cases: Vec<(&str, Vec<&str>, Vec<&str>)> = vec![
         ("a PFM header of 2^31 x 2^31 and no data", vec!["compare", &huge, &huge], vec!["huge.pfm", "2147483648x2147483648"]),
@@ -69,6 +75,11 @@ fn bad_input_is_a_clear_error() {
         ("a texture Scaled(NaN)", vec!["graph", "check", &nan_scale], vec!["nan-scale.ron:", "Scaled(NaN)", "finite number in (0, 16]"]),
         ("a texture Scaled(0)", vec!["graph", "check", &zero_scale], vec!["zero-scale.ron:", "Scaled(0)"]),
         ("a texture Fixed(0, 8)", vec!["graph", "check", &empty_fixed], vec!["empty-fixed.ron:", "Fixed(0, 8)` is empty"]),
+        ("--time NaN", vec!["render", "scenes/cornell.ron", "--time", "NaN", "--out", &out], vec!["--time", "finite number of seconds"]),
+        ("--dt inf", vec!["render", "scenes/cornell.ron", "--dt", "inf", "--out", &out], vec!["--dt", "finite number of seconds"]),
+        ("--camera-path orbit:3e38", vec!["render", "scenes/cornell.ron", "--camera-path", "orbit:3e38", "--out", &out], vec!["orbit:3e38", "within +-360000"]),
+        ("a camera key whose target is its position", vec!["render", "scenes/cornell.ron", "--camera-path", &same, "--out", &out], vec!["camera path key 0", "must differ"]),
+        ("a camera key at 3e38", vec!["render", "scenes/cornell.ron", "--camera-path", &far, "--out", &out], vec!["camera path key 0", "within 1e15"]),
     ];
     let mut failed = Vec::new();
     for (what, args, needles) in &cases {

@@ -44,10 +44,10 @@ pub struct ConvergeArgs {
     #[arg(long)]
     pub camera_path: Option<String>,
     /// Camera-path seconds per frame.
-    #[arg(long, default_value_t = 1.0 / 30.0)]
+    #[arg(long, default_value_t = 1.0 / 30.0, value_parser = super::parse_seconds)]
     pub dt: f32,
     /// Scene time (moving lights and objects are held there).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::parse_seconds)]
     pub time: f32,
     /// Save the reference and the last measured image (.png/.exr/.pfm).
     #[arg(long)]
@@ -73,6 +73,9 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
     let scene0 = scene::load(&args.scene)?;
+    if let Some(path) = &path {
+        path.check(&scene0.camera)?;
+    }
     let options = CompileOptions { output: None, edits: args.edits.edits(), ..Default::default() };
     let compiled = graph::load_and_compile(&args.graph, &graph::shader_dir_for(&args.graph), &scene0.features, &options)?;
     let base = scene0.camera;

@@ -81,6 +81,16 @@ pub enum GraphCommand {
 }
 
 /// Parses `WxH`.
+/// A finite number of seconds (`--time`, `--dt`): NaN and infinities are
+/// refused here, as the scene file refuses them.
+pub fn parse_seconds(s: &str) -> Result<f32, String> {
+    let v: f32 = s.trim().parse().map_err(|_| format!("`{s}` is not a number of seconds"))?;
+    if !v.is_finite() || v.abs() > 1e9 {
+        return Err(format!("`{s}`: give a finite number of seconds within +-1e9"));
+    }
+    Ok(v)
+}
+
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("`{s}` is not a size; write WxH, e.g. 256x256"))?;
     let w: u32 = w.trim().parse().map_err(|_| format!("`{w}` is not a whole number of pixels"))?;

@@ -30,10 +30,10 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
     /// Scene time in seconds (moving lights and objects).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::parse_seconds)]
     pub time: f32,
     /// Seconds the scene advances per frame (0: a still image).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::parse_seconds)]
     pub dt: f32,
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
@@ -109,6 +109,9 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
     check_outputs(&args.out)?;
     let scene = scene::load(&args.scene)?;
     let camera_path = args.camera_path.as_deref().map(CameraPath::parse).transpose()?;
+    if let Some(path) = &camera_path {
+        path.check(&scene.camera)?;
+    }
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
     let choice = crate::machines::choose(&gpu, args.graph.as_deref())?;
