@@ -59,6 +59,22 @@ fn bad_input_is_a_clear_error() {
     let zero_scale = graph("zero-scale.ron", "Scaled(0.0)");
     let empty_fixed = graph("empty-fixed.ron", "Fixed(0, 8)");
     let out = dir.join("x.png").display().to_string();
+    // A shader with a 1.6 MB private array (the driver compiled it for
+    // over a minute).
+    std::fs::create_dir_all(dir.join("shaders")).unwrap();
+    std::fs::create_dir_all(dir.join("passes")).unwrap();
+    std::fs::write(
+        dir.join("shaders/big.wgsl"),
+        "@group(0) @binding(0) var out_tex: texture_storage_2d<rgba32float, write>;\nvar<private> big: array<vec4f, 100000>;\n\
+         @compute @workgroup_size(8, 8)\nfn main(@builtin(global_invocation_id) id: vec3u) {\n    big[id.x] = vec4f(1.0);\n    textureStore(out_tex, id.xy, big[id.y]);\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("passes/big.ron"),
+        "FrameGraph(name: \"big\", resources: { \"out_tex\": Texture(format: Rgba32Float) },\n  passes: [ Pass(name: \"big\", shader: \"big.wgsl\") ], output: \"out_tex\")\n",
+    )
+    .unwrap();
+    let big = dir.join("passes/big.ron").display().to_string();
     let same = dir.join("same.ron");
     std::fs::write(&same, "[Key(time_s: 0.0, position: (1.0, 1.0, 1.0), target: (1.0, 1.0, 1.0))]").unwrap();
     let same = format!("keys:{}", same.display());
@@ -75,6 +91,7 @@ fn bad_input_is_a_clear_error() {
         ("a texture Scaled(NaN)", vec!["graph", "check", &nan_scale], vec!["nan-scale.ron:", "Scaled(NaN)", "finite number in (0, 16]"]),
         ("a texture Scaled(0)", vec!["graph", "check", &zero_scale], vec!["zero-scale.ron:", "Scaled(0)"]),
         ("a texture Fixed(0, 8)", vec!["graph", "check", &empty_fixed], vec!["empty-fixed.ron:", "Fixed(0, 8)` is empty"]),
+        ("a 1.6 MB private array", vec!["graph", "check", &big], vec!["big.wgsl:2:", "takes 1600000 bytes"]),
         ("--time NaN", vec!["render", "scenes/cornell.ron", "--time", "NaN", "--out", &out], vec!["--time", "finite number of seconds"]),
         ("--dt inf", vec!["render", "scenes/cornell.ron", "--dt", "inf", "--out", &out], vec!["--dt", "finite number of seconds"]),
         ("--camera-path orbit:3e38", vec!["render", "scenes/cornell.ron", "--camera-path", "orbit:3e38", "--out", &out], vec!["orbit:3e38", "within +-360000"]),

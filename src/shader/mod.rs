@@ -1,6 +1,7 @@
 //! Shaders: WGSL loading with `#import`, naga validation with errors mapped
 //! to the original files, and reflection into `ShaderInfo`.
 
+pub mod budget;
 pub mod reflect;
 pub mod source;
 
@@ -60,6 +61,7 @@ pub fn from_source(source: ShaderSource) -> Result<Shader, UserError> {
             }
             UserError::at(loc, msg)
         })?;
+    budget::check(&source, &module)?;
     let info = reflect_module(&source, &module, &module_info)?;
     Ok(Shader { source, module, module_info, info })
 }
