@@ -68,6 +68,35 @@ impl std::error::Error for UserError {}
 /// The 1-based line of the first occurrence of `needle` in `text`, if any.
 /// RON gives positions only for syntax errors; semantic errors (an unknown
 /// material, a bad radius) find their line by looking for the offending text.
+/// `text` with every `//` comment replaced by spaces (string contents kept,
+/// so byte offsets and lines are unchanged): what a locator searches.
+pub fn blank_comments(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for line in text.split_inclusive('\n') {
+        let mut in_string = false;
+        let mut cut = None;
+        let bytes = line.as_bytes();
+        for i in 0..bytes.len() {
+            match bytes[i] {
+                b'"' if i == 0 || bytes[i - 1] != b'\\' => in_string = !in_string,
+                b'/' if !in_string && bytes.get(i + 1) == Some(&b'/') => {
+                    cut = Some(i);
+                    break;
+                }
+                _ => {}
+            }
+        }
+        match cut {
+            Some(i) => {
+                out.push_str(&line[..i]);
+                out.extend(line[i..].chars().map(|c| if c == '\n' { '\n' } else { ' ' }));
+            }
+            None => out.push_str(line),
+        }
+    }
+    out
+}
+
 pub fn line_of(text: &str, needle: &str) -> Option<usize> {
     text.find(needle).map(|at| text[..at].matches('\n').count() + 1)
 }

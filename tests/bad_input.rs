@@ -75,6 +75,12 @@ fn bad_input_is_a_clear_error() {
     )
     .unwrap();
     let big = dir.join("passes/big.ron").display().to_string();
+    let outside = dir.join("passes/outside.ron");
+    std::fs::write(&outside, std::fs::read_to_string(dir.join("passes/big.ron")).unwrap().replace("big.wgsl", "/etc/passwd")).unwrap();
+    let outside = outside.display().to_string();
+    let up = dir.join("passes/up.ron");
+    std::fs::write(&up, std::fs::read_to_string(dir.join("passes/big.ron")).unwrap().replace("big.wgsl", "../passes/big.ron")).unwrap();
+    let up = up.display().to_string();
     let same = dir.join("same.ron");
     std::fs::write(&same, "[Key(time_s: 0.0, position: (1.0, 1.0, 1.0), target: (1.0, 1.0, 1.0))]").unwrap();
     let same = format!("keys:{}", same.display());
@@ -92,6 +98,8 @@ fn bad_input_is_a_clear_error() {
         ("a texture Scaled(0)", vec!["graph", "check", &zero_scale], vec!["zero-scale.ron:", "Scaled(0)"]),
         ("a texture Fixed(0, 8)", vec!["graph", "check", &empty_fixed], vec!["empty-fixed.ron:", "Fixed(0, 8)` is empty"]),
         ("a 1.6 MB private array", vec!["graph", "check", &big], vec!["big.wgsl:2:", "takes 1600000 bytes"]),
+        ("a shader path outside the shader folder", vec!["graph", "check", &outside], vec!["outside.ron:2:", "`/etc/passwd` is outside the shader folder"]),
+        ("a shader path climbing out with ..", vec!["graph", "check", &up], vec!["up.ron:2:", "`../passes/big.ron` is outside"]),
         ("--time NaN", vec!["render", "scenes/cornell.ron", "--time", "NaN", "--out", &out], vec!["--time", "finite number of seconds"]),
         ("--dt inf", vec!["render", "scenes/cornell.ron", "--dt", "inf", "--out", &out], vec!["--dt", "finite number of seconds"]),
         ("--camera-path orbit:3e38", vec!["render", "scenes/cornell.ron", "--camera-path", "orbit:3e38", "--out", &out], vec!["orbit:3e38", "within +-360000"]),

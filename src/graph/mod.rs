@@ -49,7 +49,7 @@ pub fn shader_dir_for(graph: &Path) -> PathBuf {
 pub fn load_shaders(desc: &FrameGraph, dir: &Path) -> Result<BTreeMap<String, Shader>, UserError> {
     let mut shaders = BTreeMap::new();
     for pass in &desc.passes {
-        if shaders.contains_key(&pass.shader) || !dir.join(&pass.shader).is_file() {
+        if shaders.contains_key(&pass.shader) || !shader::source::is_inside(&pass.shader) || !dir.join(&pass.shader).is_file() {
             continue;
         }
         shaders.insert(pass.shader.clone(), shader::load(dir, &pass.shader)?);
@@ -62,7 +62,7 @@ pub fn load_shaders(desc: &FrameGraph, dir: &Path) -> Result<BTreeMap<String, Sh
 pub fn load_sources(desc: &FrameGraph, dir: &Path) -> Result<BTreeMap<String, shader::ShaderSource>, UserError> {
     let mut sources = BTreeMap::new();
     for pass in &desc.passes {
-        if sources.contains_key(&pass.shader) || !dir.join(&pass.shader).is_file() {
+        if sources.contains_key(&pass.shader) || !shader::source::is_inside(&pass.shader) || !dir.join(&pass.shader).is_file() {
             continue;
         }
         sources.insert(pass.shader.clone(), shader::source::load(dir, &pass.shader)?);
@@ -77,13 +77,30 @@ pub fn reflections(shaders: &BTreeMap<String, Shader>) -> BTreeMap<String, Shade
 /// Turns a compile error into a user error located in the graph file at the
 /// pass it concerns.
 pub fn locate(e: &CompileError, path: &Path, text: &str) -> UserError {
-    let needle = match &e.pass {
-        Some(p) => format!("\"{p}\""),
-        None if e.kind == ErrorKind::UnknownOutput || e.kind == ErrorKind::UnwrittenRead => "output".to_string(),
-        None => "passes".to_string(),
+    let line = match &e.pass {
+        Some(p) => pass_line(text, p),
+        None if e.kind == ErrorKind::UnknownOutput || e.kind == ErrorKind::UnwrittenRead => line_of(text, "output"),
+        None => line_of(text, "passes"),
     };
-    let line = line_of(text, &needle).unwrap_or(0);
-    UserError::at(Location::at(path, line, 0), e.to_string())
+    UserError::at(Location::at(path, line.unwrap_or(0), 0), e.to_string())
+}
+
+/// The line of the pass named `pass`: the `"pass"` that follows `name:`
+/// after the `passes:` key (the graph's own name, a resource or a binding
+/// may be spelled the same), else its first mention. Comments are skipped.
+fn pass_line(text: &str, pass: &str) -> Option<usize> {
+    let code = crate::error::blank_comments(text);
+    let quoted = format!("\"{pass}\"");
+    let start = code.find("passes").unwrap_or(0);
+    let mut from = start;
+    while let Some(at) = code[from..].find(&quoted).map(|i| from + i) {
+        let before = code[..at].trim_end();
+        if before.ends_with(':') && before[..before.len() - 1].trim_end().ends_with("name") {
+            return Some(code[..at].matches('\n').count() + 1);
+        }
+        from = at + quoted.len();
+    }
+    line_of(&code[start..], &quoted).map(|l| l + code[..start].matches('\n').count()).or_else(|| line_of(&code, &quoted))
 }
 
 /// Loads a graph file and its shaders and compiles it for a scene.

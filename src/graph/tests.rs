@@ -914,3 +914,12 @@ fn a_byte_order_mark_is_skipped_and_bad_sizes_are_refused() {
         assert!(e.starts_with("direct.ron:") && e.contains(says), "{size}: {e}");
     }
 }
+
+#[test]
+fn errors_point_at_the_pass_not_a_namesake() {
+    // The graph, a resource and a comment all say "blur" before the pass.
+    let text = "// \"blur\" runs last\nFrameGraph(name: \"blur\",\n  resources: { \"blur\": Texture(format: Rgba32Float) },\n  passes: [\n    Pass(name: \"a\", shader: \"a.wgsl\", bind: { \"src\": \"blur\" }),\n    Pass(\n      name: \"blur\", shader: \"blur.wgsl\"),\n  ],\n  output: \"blur\")\n";
+    let e = CompileError { kind: ErrorKind::UnknownShader, pass: Some("blur".into()), shader_location: None, message: "x".into() };
+    let located = super::locate(&e, Path::new("g.ron"), text).to_string();
+    assert!(located.starts_with("g.ron:7:"), "{located}");
+}

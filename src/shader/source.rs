@@ -51,8 +51,22 @@ impl ShaderSource {
 
 const IMPORT: &str = "#import";
 
-/// Loads `dir/name` and expands its imports from `dir/shared/`.
+/// Whether a shader name is a relative path that stays inside the shader
+/// folder (no root, no `..`, not empty).
+pub fn is_inside(name: &str) -> bool {
+    !name.is_empty() && Path::new(name).components().all(|c| matches!(c, std::path::Component::Normal(_)))
+}
+
+/// Loads `dir/name` and expands its imports from `dir/shared/`. `name`
+/// must stay inside `dir`: a relative path without `..` (a graph must not
+/// read `/etc/passwd` as a shader).
 pub fn load(dir: &Path, name: &str) -> Result<ShaderSource, UserError> {
+    if !is_inside(name) {
+        return Err(UserError::new(format!(
+            "shader `{name}`: a shader is named by its path inside the shader folder {} (no absolute paths, no `..`)",
+            dir.display()
+        )));
+    }
     let mut src = ShaderSource {
         name: name.to_string(),
         text: String::new(),

@@ -21,7 +21,11 @@ pub(super) fn validate<'a>(
             return Err(err(ErrorKind::DuplicatePass, Some(name), "two passes have this name; names must be unique"));
         }
         let shader = shaders.get(&pass.shader).ok_or_else(|| {
-            err(ErrorKind::UnknownShader, Some(name), format!("shader `{}` not found in shaders/", pass.shader))
+            if crate::shader::source::is_inside(&pass.shader) {
+                err(ErrorKind::UnknownShader, Some(name), format!("shader `{}` not found in shaders/", pass.shader))
+            } else {
+                err(ErrorKind::UnknownShader, Some(name), format!("shader `{}` is outside the shader folder: name a shader by its path inside it (no absolute paths, no `..`)", pass.shader))
+            }
         })?;
         let entry = pick_entry(pass, shader)?;
         for var in pass.bind.keys() {
