@@ -81,6 +81,23 @@ fn bad_input_is_a_clear_error() {
     let up = dir.join("passes/up.ron");
     std::fs::write(&up, std::fs::read_to_string(dir.join("passes/big.ron")).unwrap().replace("big.wgsl", "../passes/big.ron")).unwrap();
     let up = up.display().to_string();
+    // Meshes: a bad vertex, an out-of-range face, a usemtl a garbage MTL
+    // does not define, a directory, a device.
+    let mesh_scene = |name: &str, mesh: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, format!("Scene(camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),\n  objects: [\n    Mesh(path: {mesh:?}),\n  ])\n")).unwrap();
+        path.display().to_string()
+    };
+    std::fs::write(dir.join("badv.obj"), "v 0 0 0\nv 1 0 0\nv 0 x 0\nf 1 2 3\n").unwrap();
+    std::fs::write(dir.join("badf.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n").unwrap();
+    std::fs::write(dir.join("garbage.mtl"), "this is not\na material library\n").unwrap();
+    std::fs::write(dir.join("usemtl.obj"), "mtllib garbage.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n").unwrap();
+    std::fs::create_dir_all(dir.join("adir.obj")).unwrap();
+    let badv = mesh_scene("badv.ron", "badv.obj");
+    let badf = mesh_scene("badf.ron", "badf.obj");
+    let usemtl = mesh_scene("usemtl.ron", "usemtl.obj");
+    let adir = mesh_scene("adir.ron", "adir.obj");
+    let device = mesh_scene("device.ron", "/dev/zero");
     let same = dir.join("same.ron");
     std::fs::write(&same, "[Key(time_s: 0.0, position: (1.0, 1.0, 1.0), target: (1.0, 1.0, 1.0))]").unwrap();
     let same = format!("keys:{}", same.display());
@@ -100,6 +117,11 @@ fn bad_input_is_a_clear_error() {
         ("a 1.6 MB private array", vec!["graph", "check", &big], vec!["big.wgsl:2:", "takes 1600000 bytes"]),
         ("a shader path outside the shader folder", vec!["graph", "check", &outside], vec!["outside.ron:2:", "`/etc/passwd` is outside the shader folder"]),
         ("a shader path climbing out with ..", vec!["graph", "check", &up], vec!["up.ron:2:", "`../passes/big.ron` is outside"]),
+        ("an OBJ vertex that is not a number", vec!["graph", "check", "passes/direct.ron", "--scene", &badv], vec!["badv.ron:3", "badv.obj:3", "`v 0 x 0` needs three numbers"]),
+        ("an OBJ face index out of range", vec!["graph", "check", "passes/direct.ron", "--scene", &badf], vec!["badf.obj:5", "position index 7 is out of range (1..=3 so far)"]),
+        ("a usemtl a garbage MTL does not define", vec!["graph", "check", "passes/direct.ron", "--scene", &usemtl], vec!["usemtl.obj:5", "usemtl `red`: no such material"]),
+        ("a directory as a mesh", vec!["graph", "check", "passes/direct.ron", "--scene", &adir], vec!["adir.ron:3", "is a directory"]),
+        ("/dev/zero as a mesh", vec!["graph", "check", "passes/direct.ron", "--scene", &device], vec!["device.ron:3", "not a regular file"]),
         ("--time NaN", vec!["render", "scenes/cornell.ron", "--time", "NaN", "--out", &out], vec!["--time", "finite number of seconds"]),
         ("--dt inf", vec!["render", "scenes/cornell.ron", "--dt", "inf", "--out", &out], vec!["--dt", "finite number of seconds"]),
         ("--camera-path orbit:3e38", vec!["render", "scenes/cornell.ron", "--camera-path", "orbit:3e38", "--out", &out], vec!["orbit:3e38", "within +-360000"]),

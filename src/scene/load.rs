@@ -293,16 +293,22 @@ impl<'a, 'l> Builder<'a, 'l> {
         if let Some(&(_, _, mesh)) = cached {
             return Ok(mesh);
         }
-        if !resolved.is_file() {
-            return Err(ctx.err(
-                "path",
-                format_args!(
-                    "mesh file \"{rel}\" not found (looked for {})",
-                    resolved.display()
-                ),
-            ));
+        match std::fs::metadata(&resolved) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" not found (looked for {})", resolved.display())));
+            }
+            Err(e) => {
+                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" cannot be opened (looked for {}): {e}", resolved.display())));
+            }
+            Ok(m) if m.is_dir() => {
+                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" is a directory ({}); give an .obj file", resolved.display())));
+            }
+            Ok(m) if !m.is_file() => {
+                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" is not a regular file ({}: a device, FIFO or socket); give an .obj file", resolved.display())));
+            }
+            Ok(_) => {}
         }
-        let file = obj::read(&resolved).map_err(|e| ctx.err("path", e))?;
+        let file = obj::read(&resolved, material.is_none()).map_err(|e| ctx.err("path", e))?;
         // An override replaces the MTL materials, which are then not added.
         let base = self.materials.len() as u32;
         if material.is_none() {

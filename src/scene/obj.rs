@@ -22,18 +22,33 @@ pub(crate) struct ObjFile {
     pub materials: Vec<MaterialGpu>,
 }
 
-/// Reads `path`. A missing or unreadable MTL library is not an error: the
-/// faces then have no material and the scene's fallback applies.
-pub(crate) fn read(path: &Path) -> Result<ObjFile, String> {
+/// Reads `path`. A missing MTL library is not an error (the faces then
+/// have no material and the scene's fallback applies); an MTL that exists
+/// but fails to parse, or a `usemtl` naming a material no library defines,
+/// is. Errors name the OBJ or MTL line where one is to blame.
+/// `check_materials` is false when the scene overrides the OBJ's materials.
+pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String> {
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ..Default::default()
     };
-    let (models, materials) = tobj::load_obj(path, &options)
-        .map_err(|e| format!("cannot read OBJ file {}: {e}", path.display()))?;
+    let (models, materials) = tobj::load_obj(path, &options).map_err(|e| {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        match first_bad_line(&text, &e) {
+            Some((line, what)) => format!("OBJ file {}:{line}: {e}: {what}", path.display()),
+            None => format!("cannot read OBJ file {}: {e}", path.display()),
+        }
+    })?;
+    let materials = match materials {
+        Ok(m) => m,
+        Err(tobj::LoadError::OpenFileFailed) => Vec::new(),
+        Err(e) => return Err(format!("OBJ file {}: its MTL library could not be read: {e}", path.display())),
+    };
+    if check_materials && models.iter().any(|m| m.mesh.material_id.is_none()) {
+        check_usemtl(path, &materials)?;
+    }
     let materials = materials
-        .unwrap_or_default()
         .iter()
         .map(map_material)
         .collect::<Result<Vec<_>, _>>()
@@ -92,6 +107,101 @@ pub(crate) fn read(path: &Path) -> Result<ObjFile, String> {
         triangles,
         materials,
     })
+}
+
+/// The first line of an OBJ that the loader's error `e` can be blamed on:
+/// a `v`/`vn`/`vt` line whose numbers do not parse, or an `f` line with a
+/// bad or out-of-range index. (tobj reports the kind of error, not where.)
+fn first_bad_line(text: &str, e: &tobj::LoadError) -> Option<(usize, String)> {
+    use tobj::LoadError::*;
+    let keyword = match e {
+        PositionParseError => "v",
+        NormalParseError => "vn",
+        TexcoordParseError => "vt",
+        FaceParseError | InvalidPolygon | FaceVertexOutOfBounds | FaceTexCoordOutOfBounds | FaceNormalOutOfBounds => "f",
+        _ => return None,
+    };
+    let mut counts = [0i64; 3]; // v, vt, vn seen so far
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        let Some(head) = words.next() else { continue };
+        let args: Vec<&str> = words.collect();
+        let floats = |n: usize| args.len() >= n && args.iter().take(n).all(|a| a.parse::<f32>().is_ok());
+        let bad = match head {
+            "v" => {
+                counts[0] += 1;
+                (head == keyword && !floats(3)).then(|| format!("`{}` needs three numbers", line.trim()))
+            }
+            "vt" => {
+                counts[1] += 1;
+                (head == keyword && !floats(1)).then(|| format!("`{}` needs numbers", line.trim()))
+            }
+            "vn" => {
+                counts[2] += 1;
+                (head == keyword && !floats(3)).then(|| format!("`{}` needs three numbers", line.trim()))
+            }
+            "f" if keyword == "f" => face_problem(&args, counts).map(|p| format!("`{}`: {p}", line.trim())),
+            _ => None,
+        };
+        if let Some(what) = bad {
+            return Some((i + 1, what));
+        }
+    }
+    None
+}
+
+/// What is wrong with the vertices of an `f` line, given how many
+/// positions, texture coordinates and normals came before it.
+fn face_problem(args: &[&str], counts: [i64; 3]) -> Option<String> {
+    if args.len() < 3 {
+        return Some(format!("a face needs at least 3 vertices, it has {}", args.len()));
+    }
+    for a in args {
+        for (k, part) in a.split('/').enumerate().take(3) {
+            if part.is_empty() && k > 0 {
+                continue;
+            }
+            let Ok(index) = part.parse::<i64>() else {
+                return Some(format!("`{part}` is not a vertex index"));
+            };
+            let n = counts[k];
+            let resolved = if index < 0 { n + index + 1 } else { index };
+            if index == 0 || resolved < 1 || resolved > n {
+                let what = ["position", "texture coordinate", "normal"][k];
+                return Some(format!("{what} index {index} is out of range (1..={n} so far)"));
+            }
+        }
+    }
+    None
+}
+
+/// Every `usemtl` of the OBJ names a material its libraries define;
+/// otherwise the error names the OBJ line (a garbage MTL made faces
+/// silently fall back to the default material). Without any library file
+/// on disk the fallback is what the README promises, and no error.
+fn check_usemtl(path: &Path, materials: &[tobj::Material]) -> Result<(), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read OBJ file {}: {e}", path.display()))?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let libraries_exist = text
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("mtllib"))
+        .any(|lib| dir.join(lib.trim()).is_file());
+    if !libraries_exist {
+        return Ok(());
+    }
+    for (i, line) in text.lines().enumerate() {
+        let Some(name) = line.trim().strip_prefix("usemtl") else { continue };
+        let name = name.trim();
+        if !name.is_empty() && !materials.iter().any(|m| m.name == name) {
+            let defined = if materials.is_empty() {
+                "its MTL libraries define no materials (no `newmtl` line)".to_string()
+            } else {
+                format!("its MTL libraries define: {}", materials.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", "))
+            };
+            return Err(format!("OBJ file {}:{}: usemtl `{name}`: no such material; {defined}", path.display(), i + 1));
+        }
+    }
+    Ok(())
 }
 
 /// MTL → material: Kd→albedo, Ks→specular (max component), Ns→roughness
