@@ -11,12 +11,16 @@ use std::process::Command;
 use common::*;
 
 fn glint(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(repo())
-        .env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()))
-        .output()
-        .expect("run glint");
+    glint_env(args, &[])
+}
+
+fn glint_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String) {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_glint"));
+    cmd.args(args).current_dir(repo()).env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()));
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let out = cmd.output().expect("run glint");
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
     (out.status.code().unwrap_or(-1), stderr)
@@ -145,6 +149,47 @@ fn bad_input_is_a_clear_error() {
         }
     }
     assert!(failed.is_empty(), "{} of {} cases failed:\n{}", failed.len(), cases.len() + 1, failed.join("\n"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn adapter_filters_that_match_nothing_say_so() {
+    let (code, err) = glint_env(&["render", "scenes/cornell.ron", "--out", "target/x.png"], &[("WGPU_BACKEND", "bogus")]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("WGPU_BACKEND=`bogus` names no backend"), "{err}");
+    if gpu().is_some() {
+        let (code, err) = glint_env(&["render", "scenes/cornell.ron", "--out", "target/x.png"], &[("WGPU_ADAPTER_NAME", "nosuch")]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("WGPU_ADAPTER_NAME=`nosuch` matches none of the adapters there are: `llvmpipe") || err.contains("matches none"), "{err}");
+    }
+}
+
+#[test]
+fn quiet_surprises_are_said() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("surprises");
+    std::fs::create_dir_all(&dir).unwrap();
+    let empty = dir.join("empty.ron");
+    std::fs::write(&empty, "Scene(camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0))").unwrap();
+    let out = dir.join("x.png").display().to_string();
+    let (code, err) = glint(&["render", &empty.display().to_string(), "--graph", "passes/direct.ron", "--size", "16x16", "--out", &out]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("has no objects and 0 lights: the image is the background"), "{err}");
+    // The size printed is the written image's, not the render's.
+    let out_cmd = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(["render", "scenes/cornell.ron", "--graph", "tests/graphs/samplers.ron", "--size", "16x16", "--out", &out])
+        .current_dir(repo())
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out_cmd.stdout);
+    assert!(stdout.contains("(1024x4)"), "{stdout}");
+    // --hitdist only writes EXR or PFM, and says so before benchmarking.
+    let (code, err) = glint(&["bench", "rays", "--obj", "scenes/meshes/knot.obj", "--camera", "0,0,5,0,0,0,45", "--size", "16x16", "--hitdist", "x.txt"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("x.txt") && err.contains("--hitdist writes an .exr or a .pfm"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -79,6 +79,9 @@ pub fn run(cmd: BenchCommand) -> Result<(), UserError> {
 }
 
 fn rays(args: RaysArgs) -> Result<(), UserError> {
+    if let Some(path) = &args.hitdist {
+        hitdist_is_pfm(path)?;
+    }
     let obj = std::fs::canonicalize(&args.obj)
         .map_err(|e| UserError::in_file(&args.obj, format!("cannot open the OBJ: {e}")))?;
     let c = args.camera;
@@ -89,7 +92,8 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
         c[0], c[1], c[2], c[3], c[4], c[5], c[6], obj.display().to_string()
     );
     let load_start = Instant::now();
-    let scene = crate::scene::parse(&text, Path::new("bench-rays.ron"))?;
+    // The scene is made from the arguments: errors name them, not a file.
+    let scene = crate::scene::parse(&text, Path::new("(the scene bench rays made of --obj and --camera)"))?;
     let load_ms = load_start.elapsed().as_secs_f64() * 1e3;
     let triangles = scene.triangle_count();
     // The builder is timed on the triangles in the OBJ's order: the
@@ -257,9 +261,19 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
 }
 
 /// The x channel (primary hit distance, inf on a miss) as a 1-channel EXR.
+/// `--hitdist` writes EXR or PFM, chosen by the extension; anything else
+/// is refused before the benchmark runs.
+fn hitdist_is_pfm(path: &Path) -> Result<bool, UserError> {
+    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("pfm") => Ok(true),
+        Some("exr") => Ok(false),
+        _ => Err(UserError::in_file(path, "--hitdist writes an .exr or a .pfm; name the file so")),
+    }
+}
+
 fn write_hitdist(img: &ImageF32, path: &Path) -> Result<(), UserError> {
     use exr::prelude::*;
-    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("pfm")) {
+    if hitdist_is_pfm(path)? {
         return crate::image_io::save_pfm_grey(img, path);
     }
     let samples: Vec<f32> = img.data.iter().map(|p| p[0]).collect();

@@ -108,6 +108,7 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
     }
     check_outputs(&args.out)?;
     let scene = scene::load(&args.scene)?;
+    warn_if_empty(&scene);
     let camera_path = args.camera_path.as_deref().map(CameraPath::parse).transpose()?;
     if let Some(path) = &camera_path {
         path.check(&scene.camera)?;
@@ -188,11 +189,10 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     let pass_total: f64 = medians.iter().map(|(_, ms)| ms).sum();
     let outs: Vec<String> = args.out.iter().map(|p| p.display().to_string()).collect();
     let passes = if medians.is_empty() { format!("per pass: {how}") } else { format!("sum of pass medians {pass_total:.2} ms ({how})") };
+    let (w, h) = session.executor.output_size();
     out!(
-        "wrote {} ({}x{}); {} frames in {seconds:.2} s; median {:.2} ms/frame wall; {passes}",
+        "wrote {} ({w}x{h}); {} frames in {seconds:.2} s; median {:.2} ms/frame wall; {passes}",
         outs.join(", "),
-        args.size.0,
-        args.size.1,
         args.frames,
         median(&frames.stats.frame_ms),
     );
@@ -213,4 +213,17 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     }
     let mem = session.graph.schedule.memory(args.size);
     out!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);
+}
+
+/// An empty scene is valid, but its image says nothing: say why it is
+/// black (or only background).
+fn warn_if_empty(scene: &scene::Scene) {
+    // Lights carry an ObjectId too (numbered after the objects).
+    let lights = scene.world.query::<&crate::scene::LightIndex>().iter().count();
+    let objects = scene.world.query::<&crate::scene::ObjectId>().iter().count() - lights;
+    if objects == 0 {
+        eprintln!("warning: {} has no objects and {lights} lights: the image is the background", scene.path.display());
+    } else if lights == 0 && !scene.features.emissive {
+        eprintln!("warning: {} has no lights and no emissive material: the image is black but for the background", scene.path.display());
+    }
 }

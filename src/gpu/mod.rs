@@ -51,7 +51,7 @@ impl Gpu {
     }
 
     async fn with_instance(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Gpu, UserError> {
-        let adapter = pick_adapter(&instance, surface).await.ok_or_else(|| UserError::new(NO_ADAPTER_HELP))?;
+        let adapter = pick_adapter(&instance, surface).await?;
         let info = adapter.get_info();
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
@@ -126,15 +126,36 @@ impl Gpu {
     }
 }
 
-async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Option<wgpu::Adapter> {
+/// The adapter `WGPU_BACKEND` and `WGPU_ADAPTER_NAME` select, or the best
+/// one; when none is found, an error that names the filter that matched
+/// nothing and lists the adapters there are.
+async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<wgpu::Adapter, UserError> {
+    let backend_var = std::env::var("WGPU_BACKEND").ok();
     let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
+    if let (Some(v), true) = (&backend_var, backends.is_empty()) {
+        return Err(UserError::new(format!("WGPU_BACKEND=`{v}` names no backend glint knows; use vulkan, metal, dx12 or gl (a comma-separated list picks several)")));
+    }
     let mut adapters = instance.enumerate_adapters(backends).await;
     if let Some(s) = surface {
         adapters.retain(|a| a.is_surface_supported(s));
     }
+    let list = |adapters: &[wgpu::Adapter]| {
+        let names: Vec<String> = adapters.iter().map(|a| {
+            let i = a.get_info();
+            format!("`{}` ({:?}, {:?})", i.name, i.device_type, i.backend)
+        }).collect();
+        names.join(", ")
+    };
+    if adapters.is_empty() {
+        let filter = backend_var.map(|v| format!(" with WGPU_BACKEND=`{v}`")).unwrap_or_default();
+        return Err(UserError::new(format!("{NO_ADAPTER_HELP} (none found{filter})")));
+    }
     if let Ok(name) = std::env::var("WGPU_ADAPTER_NAME") {
-        let name = name.to_lowercase();
-        return adapters.into_iter().find(|a| a.get_info().name.to_lowercase().contains(&name));
+        let wanted = name.to_lowercase();
+        let all = list(&adapters);
+        return adapters.into_iter().find(|a| a.get_info().name.to_lowercase().contains(&wanted)).ok_or_else(|| {
+            UserError::new(format!("WGPU_ADAPTER_NAME=`{name}` matches none of the adapters there are: {all}"))
+        });
     }
     // Prefer discrete, then integrated, then anything; Vulkan over GL.
     let rank = |a: &wgpu::Adapter| {
@@ -149,7 +170,7 @@ async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<
         let backend = if i.backend == wgpu::Backend::Gl { 1 } else { 0 };
         (backend, ty)
     };
-    adapters.into_iter().min_by_key(rank)
+    adapters.into_iter().min_by_key(rank).ok_or_else(|| UserError::new(NO_ADAPTER_HELP))
 }
 
 /// Live wgpu objects by kind (see `Gpu::live_objects`).

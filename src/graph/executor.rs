@@ -331,6 +331,13 @@ impl Executor {
         &self.textures[self.schedule.output.resolve(self.last_parity())].texture
     }
 
+    /// The size of the output texture (a graph resource may have its own
+    /// size, not the render's).
+    pub fn output_size(&self) -> (u32, u32) {
+        let t = self.output_texture();
+        (t.width(), t.height())
+    }
+
     pub fn read_output(&self, gpu: &Gpu) -> Result<ImageF32, UserError> {
         read_texture(&gpu.device, &gpu.queue, self.output_texture(), self.schedule.output_format)
     }
