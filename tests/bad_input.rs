@@ -102,6 +102,20 @@ fn bad_input_is_a_clear_error() {
     let usemtl = mesh_scene("usemtl.ron", "usemtl.obj");
     let adir = mesh_scene("adir.ron", "adir.obj");
     let device = mesh_scene("device.ron", "/dev/zero");
+    // Finite but huge: a sphere of radius 1e20, a camera at 3e38, a mesh
+    // scaled 1e19.
+    let edited = |name: &str, from: &str, to: &str| {
+        let text = std::fs::read_to_string(repo().join("scenes/cornell.ron")).unwrap().replacen(from, to, 1);
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path.display().to_string()
+    };
+    let r20 = edited("r20.ron", "radius: 0.35", "radius: 1e20");
+    let cam = edited("cam.ron", "position: (0.0, 0.0, 3.4)", "position: (0.0, 0.0, 3e38)");
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let scaled = dir.join("scaled.ron");
+    std::fs::write(&scaled, "Scene(camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),\n  objects: [\n    Mesh(path: \"tri.obj\", scale: 1e19),\n  ])\n").unwrap();
+    let scaled = scaled.display().to_string();
     let same = dir.join("same.ron");
     std::fs::write(&same, "[Key(time_s: 0.0, position: (1.0, 1.0, 1.0), target: (1.0, 1.0, 1.0))]").unwrap();
     let same = format!("keys:{}", same.display());
@@ -126,6 +140,9 @@ fn bad_input_is_a_clear_error() {
         ("a usemtl a garbage MTL does not define", vec!["graph", "check", "passes/direct.ron", "--scene", &usemtl], vec!["usemtl.obj:5", "usemtl `red`: no such material"]),
         ("a directory as a mesh", vec!["graph", "check", "passes/direct.ron", "--scene", &adir], vec!["adir.ron:3", "is a directory"]),
         ("/dev/zero as a mesh", vec!["graph", "check", "passes/direct.ron", "--scene", &device], vec!["device.ron:3", "not a regular file"]),
+        ("a sphere of radius 1e20", vec!["graph", "check", "passes/direct.ron", "--scene", &r20], vec!["r20.ron:", "`radius` 1e20 is beyond glint's range of 1e15"]),
+        ("a camera at z = 3e38", vec!["graph", "check", "passes/direct.ron", "--scene", &cam], vec!["cam.ron:", "is 3e38 from the camera at (0, 0, 3e38)"]),
+        ("a mesh scaled by 1e19", vec!["graph", "check", "passes/direct.ron", "--scene", &scaled], vec!["scaled.ron:3", "beyond glint's range"]),
         ("--time NaN", vec!["render", "scenes/cornell.ron", "--time", "NaN", "--out", &out], vec!["--time", "finite number of seconds"]),
         ("--dt inf", vec!["render", "scenes/cornell.ron", "--dt", "inf", "--out", &out], vec!["--dt", "finite number of seconds"]),
         ("--camera-path orbit:3e38", vec!["render", "scenes/cornell.ron", "--camera-path", "orbit:3e38", "--out", &out], vec!["orbit:3e38", "within +-360000"]),

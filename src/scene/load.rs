@@ -136,6 +136,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                         None => None,
                     };
                     let mesh = self.obj_mesh(&ctx, path, material)?;
+                    self.check_mesh_extent(&ctx, mesh, f64::from(*scale))?;
                     translation = DVec3::from_array(*translate);
                     let [x, y, z] = rotate_deg.map(f32::to_radians);
                     let rotation = Quat::from_euler(EulerRot::XYZ, x, y, z);
@@ -147,6 +148,16 @@ impl<'a, 'l> Builder<'a, 'l> {
                     .add(MeshShape { mesh });
                     features.meshes = true;
                 }
+            }
+            let camera = DVec3::from_array(desc.camera.position);
+            match o {
+                ObjectDesc::Quad { vertices, .. } => {
+                    for v in vertices {
+                        ctx.near("vertices", DVec3::from_array(*v), camera)?;
+                    }
+                }
+                ObjectDesc::Sphere { .. } => ctx.near("center", translation, camera)?,
+                ObjectDesc::Mesh { .. } => ctx.near("translate", translation, camera)?,
             }
             if let Some(m) = o.motion() {
                 e.add(validate::motion(&ctx, m)?)
@@ -196,6 +207,8 @@ impl<'a, 'l> Builder<'a, 'l> {
                     DVec3::from_array(position)
                 }
             };
+            let field = if matches!(l, LightDesc::PointLight { .. }) { "position" } else { "center" };
+            ctx.near(field, translation, DVec3::from_array(desc.camera.position))?;
             e.add(Transform::from_translation(translation));
             if let Some(m) = l.motion() {
                 let motion: Motion = validate::motion(&ctx, m)?;
@@ -228,6 +241,20 @@ impl<'a, 'l> Builder<'a, 'l> {
             meshes: self.meshes,
             materials: self.materials,
         })
+    }
+
+    /// Mesh `mesh`, scaled, must fit in `validate::MAX_RANGE`.
+    fn check_mesh_extent(&self, ctx: &Ctx, mesh: usize, scale: f64) -> Result<(), UserError> {
+        let Some(mesh) = self.meshes.get(mesh) else { return Ok(()) };
+        let local = mesh.triangles.iter().flat_map(|t| t.p).map(|p| f64::from(p.abs().max_element())).fold(0.0, f64::max);
+        let extent = local * scale;
+        if extent > validate::MAX_RANGE {
+            return Err(ctx.err(
+                "scale",
+                format_args!("the mesh reaches {local:e} from its origin; scaled by {scale:e} that is {extent:e}, beyond glint's range of {:e} (f32 on the GPU)", validate::MAX_RANGE),
+            ));
+        }
+        Ok(())
     }
 
     fn push_material(&mut self, m: MaterialGpu) -> u32 {

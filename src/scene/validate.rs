@@ -10,10 +10,18 @@ use crate::error::UserError;
 
 type Res<T> = Result<T, UserError>;
 
+/// How far from its camera, and how large, anything in a scene may be.
+/// The GPU works in f32 relative to an origin near the camera; squared
+/// distances overflow f32 past about 1.8e19, so sizes and distances stay
+/// well below that (1e15 squared is 1e30).
+pub(crate) const MAX_RANGE: f64 = 1e15;
+
 /// A vector as written in RON: `(x, y, z)`.
 fn show(v: impl Into<DVec3>) -> String {
     let v: DVec3 = v.into();
-    format!("({}, {}, {})", v.x, v.y, v.z)
+    // Huge values in exponent form (3e38, not 39 digits).
+    let n = |x: f64| if x.is_finite() && x.abs() >= 1e7 { format!("{x:e}") } else { format!("{x}") };
+    format!("({}, {}, {})", n(v.x), n(v.y), n(v.z))
 }
 
 /// A path into the file plus the name used in messages, e.g. `objects[2] (Sphere)`.
@@ -91,6 +99,30 @@ impl<'a, 'l> Ctx<'a, 'l> {
                 format_args!("`{field}` must be a positive finite number, got {x}"),
             ))
         }
+    }
+
+    /// A positive finite size within `MAX_RANGE` (radii, scales).
+    fn size(&self, field: &'a str, x: f32) -> Res<f32> {
+        self.positive(field, x)?;
+        if f64::from(x) > MAX_RANGE {
+            return Err(self.err(
+                field,
+                format_args!("`{field}` {x:e} is beyond glint's range of {MAX_RANGE:e} (the GPU works in f32, where squared distances overflow past about 1.8e19)"),
+            ));
+        }
+        Ok(x)
+    }
+
+    /// A position within `MAX_RANGE` of the camera in every axis.
+    pub(crate) fn near(&self, field: &'a str, p: DVec3, camera: DVec3) -> Res<()> {
+        let far = (p - camera).abs().max_element();
+        if far > MAX_RANGE {
+            return Err(self.err(
+                field,
+                format_args!("`{field}` {} is {far:e} from the camera at {}; glint renders what lies within {MAX_RANGE:e} of its camera (f32 on the GPU)", show(p), show(camera)),
+            ));
+        }
+        Ok(())
     }
 
     fn unit(&self, field: &'a str, x: f32) -> Res<f32> {
@@ -171,7 +203,7 @@ pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
         }
         ObjectDesc::Sphere { center, radius, .. } => {
             ctx.place("center", *center)?;
-            ctx.positive("radius", *radius)?;
+            ctx.size("radius", *radius)?;
         }
         ObjectDesc::Mesh {
             path,
@@ -184,7 +216,7 @@ pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
                 return Err(ctx.err("path", "`path` is empty"));
             }
             ctx.place("translate", *translate)?;
-            ctx.positive("scale", *scale)?;
+            ctx.size("scale", *scale)?;
             ctx.finite("rotate_deg", *rotate_deg)?;
         }
     }
@@ -222,7 +254,7 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
                      PointLight(position: .., intensity: ..) (intensity = radiance x pi r^2 matches a small sphere's far field)",
                 ));
             }
-            ctx.positive("radius", *radius)?;
+            ctx.size("radius", *radius)?;
             ctx.color("radiance", *radiance)?;
         }
         LightDesc::PointLight {
