@@ -111,6 +111,7 @@ fn bad_input_is_a_clear_error() {
         path.display().to_string()
     };
     let r20 = edited("r20.ron", "radius: 0.35", "radius: 1e20");
+    let ground = edited("ground.ron", "Sphere(center: (-0.4, -0.65, -0.3), radius: 0.35", "Sphere(center: (0.0, -1e8, 0.0), radius: 1e8");
     let cam = edited("cam.ron", "position: (0.0, 0.0, 3.4)", "position: (0.0, 0.0, 3e38)");
     std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let scaled = dir.join("scaled.ron");
@@ -141,6 +142,7 @@ fn bad_input_is_a_clear_error() {
         ("a directory as a mesh", vec!["graph", "check", "passes/direct.ron", "--scene", &adir], vec!["adir.ron:3", "is a directory"]),
         ("/dev/zero as a mesh", vec!["graph", "check", "passes/direct.ron", "--scene", &device], vec!["device.ron:3", "not a regular file"]),
         ("a sphere of radius 1e20", vec!["graph", "check", "passes/direct.ron", "--scene", &r20], vec!["r20.ron:", "`radius` 1e20 is beyond glint's range of 1e15"]),
+        ("a sphere of radius 1e8 seen from 1 off its surface", vec!["graph", "check", "passes/direct.ron", "--scene", &ground], vec!["ground.ron:", "radius 1e8 seen from ", "model a large ground or wall as a Quad"]),
         ("a camera at z = 3e38", vec!["graph", "check", "passes/direct.ron", "--scene", &cam], vec!["cam.ron:", "is 3e38 from the camera at (0, 0, 3e38)"]),
         ("a mesh scaled by 1e19", vec!["graph", "check", "passes/direct.ron", "--scene", &scaled], vec!["scaled.ron:3", "beyond glint's range"]),
         ("--time NaN", vec!["render", "scenes/cornell.ron", "--time", "NaN", "--out", &out], vec!["--time", "finite number of seconds"]),

@@ -156,7 +156,10 @@ impl<'a, 'l> Builder<'a, 'l> {
                         ctx.near("vertices", DVec3::from_array(*v), camera)?;
                     }
                 }
-                ObjectDesc::Sphere { .. } => ctx.near("center", translation, camera)?,
+                ObjectDesc::Sphere { radius, .. } => {
+                    ctx.near("center", translation, camera)?;
+                    ctx.resolvable(translation, *radius, camera)?;
+                }
                 ObjectDesc::Mesh { .. } => ctx.near("translate", translation, camera)?,
             }
             if let Some(m) = o.motion() {
@@ -209,6 +212,9 @@ impl<'a, 'l> Builder<'a, 'l> {
             };
             let field = if matches!(l, LightDesc::PointLight { .. }) { "position" } else { "center" };
             ctx.near(field, translation, DVec3::from_array(desc.camera.position))?;
+            if let LightDesc::SphereLight { radius, .. } = l {
+                ctx.resolvable(translation, *radius, DVec3::from_array(desc.camera.position))?;
+            }
             e.add(Transform::from_translation(translation));
             if let Some(m) = l.motion() {
                 let motion: Motion = validate::motion(&ctx, m)?;

@@ -16,6 +16,10 @@ type Res<T> = Result<T, UserError>;
 /// well below that (1e15 squared is 1e30).
 pub(crate) const MAX_RANGE: f64 = 1e15;
 
+/// The largest radius / (camera's distance from the surface) of a sphere
+/// (see `Ctx::resolvable`).
+pub(crate) const MAX_SPHERE_RATIO: f64 = 3e5;
+
 /// A vector as written in RON: `(x, y, z)`.
 fn show(v: impl Into<DVec3>) -> String {
     let v: DVec3 = v.into();
@@ -120,6 +124,25 @@ impl<'a, 'l> Ctx<'a, 'l> {
             return Err(self.err(
                 field,
                 format_args!("`{field}` {} is {far:e} from the camera at {}; glint renders what lies within {MAX_RANGE:e} of its camera (f32 on the GPU)", show(p), show(camera)),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A sphere whose surface f32 can resolve where the camera sees it:
+    /// `ray_sphere` computes r^2 - |l|^2, whose rounding (about r^2 6e-8)
+    /// swamps the true value (about 2 r h at height h above the surface)
+    /// once r / h passes about 3e5 (radius 1e8 seen from 3 away shaded to
+    /// 4e-17).
+    pub(crate) fn resolvable(&self, center: DVec3, radius: f32, camera: DVec3) -> Res<()> {
+        let r = f64::from(radius);
+        let h = ((center - camera).length() - r).abs();
+        if r > MAX_SPHERE_RATIO * h {
+            return Err(self.err(
+                "radius",
+                format_args!(
+                    "a sphere of radius {r:e} seen from {} off its surface is beyond what f32 resolves (radius / distance must stay below {MAX_SPHERE_RATIO:e}); model a large ground or wall as a Quad", h as f32
+                ),
             ));
         }
         Ok(())
