@@ -158,3 +158,27 @@ fn a_camera_on_a_wall_sees_what_one_just_inside_sees() {
         }
     }
 }
+
+/// smallpt's room (walls are spheres of radius 1e4): the huge walls set
+/// the scene's offset scale; no pixel of the path-traced room is black (no
+/// shadow-ray self-intersection in its corners).
+#[test]
+fn huge_sphere_walls_leave_no_black_pixel() {
+    if gpu().is_none() {
+        return;
+    }
+    let text = r#"Scene(camera: Camera(position: (50.0, 52.0, 295.6), target: (50.0, 51.957388, 294.6), vfov_deg: 30.0),
+  materials: { "red": Material(albedo: (0.75, 0.25, 0.25)), "blue": Material(albedo: (0.25, 0.25, 0.75)), "grey": Material(albedo: (0.75, 0.75, 0.75)) },
+  objects: [
+    Sphere(center: (10001.0, 40.8, 81.6), radius: 10000.0, material: "red"),
+    Sphere(center: (-9901.0, 40.8, 81.6), radius: 10000.0, material: "blue"),
+    Sphere(center: (50.0, 40.8, 10000.0), radius: 10000.0, material: "grey"),
+    Sphere(center: (50.0, 10000.0, 81.6), radius: 10000.0, material: "grey"),
+    Sphere(center: (50.0, -9918.4, 81.6), radius: 10000.0, material: "grey"),
+    Sphere(center: (27.0, 16.5, 47.0), radius: 16.5, material: "grey"),
+  ],
+  lights: [ SphereLight(center: (50.0, 70.0, 81.6), radius: 5.0, radiance: (50.0, 50.0, 50.0)) ])"#;
+    let image = draw(text, "pathtrace.ron", 32);
+    let black = image.data.iter().filter(|p| p[0] == 0.0 && p[1] == 0.0 && p[2] == 0.0).count();
+    assert_eq!(black, 0, "{black} black pixels in smallpt's room");
+}
