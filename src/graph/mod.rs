@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{line_of, Location, UserError};
 use crate::scene::SceneFeatures;
 use crate::shader::{self, Shader, ShaderInfo};
-pub use compile::{compile, CompileError, CompileOptions, ErrorKind};
+pub use compile::{compile, CompileError, CompileOptions, ErrorKind, SAMPLES_PER_DISPATCH};
 pub use desc::FrameGraph;
 pub use schedule::*;
 

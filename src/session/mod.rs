@@ -305,6 +305,18 @@ impl Session {
         let Some(params) = sp.params.as_mut() else {
             return Err(UserError::new(format!("pass `{pass}`: param `{name}` given, but {} has no `params` uniform", sp.shader)));
         };
+        // A sample count the engine splits across dispatches changes how
+        // many passes there are: recompile, as --set would.
+        if params.member(&format!("{name}_done")).is_some() || name.ends_with("_done") && params.member(name.trim_end_matches("_done")).is_some() {
+            let mut job = self.job(RebuildKind::Edits);
+            let sets = &mut job.options.edits.set;
+            sets.retain(|s| !(s.pass == pass && s.param == name));
+            sets.push(ParamSet { pass: pass.to_string(), param: name.to_string(), value });
+            let rebuild = job.run()?;
+            self.commit(rebuild)?;
+            self.restart();
+            return Ok(());
+        }
         params.set(name, value.clone()).map_err(|e| UserError::new(format!("pass `{pass}`: {}", e.message())))?;
         let params = params.clone();
         self.executor.write_params(&self.gpu.queue, index, &params.bytes);

@@ -205,12 +205,18 @@ fn schedule(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Ve
 
 fn params(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut Vec<Action>) {
     egui::CollapsingHeader::new("params").default_open(false).show(ui, |ui| {
-        for sp in &session.executor.schedule.passes {
+        // The later dispatches of a split sample loop (`NAME#k`) are the
+        // engine's: their params follow the first pass's.
+        for sp in session.executor.schedule.passes.iter().filter(|sp| !sp.name.contains('#')) {
             let Some(p) = &sp.params else { continue };
             let hints = state.hints_for(session, &sp.shader);
             ui.label(RichText::new(&sp.name).strong());
             for m in &p.layout.members {
                 let Some(value) = p.values.get(&m.name) else { continue };
+                // `X_done` is set by the engine when it splits `X`.
+                if m.name.strip_suffix("_done").is_some_and(|x| p.values.contains_key(x)) {
+                    continue;
+                }
                 if let Some(v) = param_widget(ui, m, value, hints.get(&m.name)) {
                     actions.push(Action::SetParam { pass: sp.name.clone(), name: m.name.clone(), value: v });
                 }

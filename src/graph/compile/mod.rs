@@ -14,6 +14,7 @@ mod cull;
 mod emit;
 mod lifetimes;
 mod order;
+mod split;
 mod textures;
 mod validate;
 mod versions;
@@ -31,6 +32,7 @@ use cull::{cull_by_requires, cull_unreachable};
 use emit::emit_schedule;
 use lifetimes::compute_lifetimes;
 use order::order_passes;
+pub use split::SAMPLES_PER_DISPATCH;
 use textures::assign_textures;
 use validate::validate;
 use versions::{assign_groups, assign_versions, check_output_written, writers_of};
@@ -152,6 +154,14 @@ pub fn compile(
     } else {
         edited = options.edits.apply(desc).map_err(|m| err(ErrorKind::BadEdit, None, m))?;
         &edited
+    };
+    let split;
+    let desc = match split::split_sample_loops(desc, shaders)? {
+        Some(expanded) => {
+            split = expanded;
+            &split
+        }
+        None => desc,
     };
     let plans = validate(desc, shaders)?;
     let output = options.output.clone().unwrap_or_else(|| desc.output.clone());

@@ -1,0 +1,112 @@
+//! Step 0: sample loops split across dispatches.
+//!
+//! A shader loop over samples runs inside one invocation, and drivers bound
+//! what one invocation may do: lavapipe ends *every* loop of an invocation
+//! once 65535 iterations have run in all (three loops of 40000 in one
+//! shader count 40000, 25534 and 1), so `pathtrace.spp = 600` came out 41%
+//! too dark; a GPU would instead run one dispatch for as long as it takes.
+//!
+//! The convention: a pass whose `params` has a u32 `X` and a u32 `X_done`
+//! takes `X` samples, `X_done` of which are already in its output. When
+//! the graph asks for more than `SAMPLES_PER_DISPATCH`, the pass becomes
+//! several: the first runs as written with its share of the samples and
+//! `X_done = 0`; each later one, named `NAME#k`, runs the shader's entry
+//! point `ENTRY_more` with the next share and the count done so far, and
+//! blends into the output in place: its read_write binding `Y_acc` is bound
+//! to whatever the first pass binds `Y` to. `X_done` is the engine's to set.
+
+use std::collections::BTreeMap;
+
+use super::{err, ErrorKind};
+use super::CompileError;
+use crate::graph::desc::{FrameGraph, ParamValue, PassDesc};
+use crate::shader::{ScalarType, ShaderInfo};
+
+/// The most samples one dispatch takes: with 15 traces per path sample and
+/// 200 BVH steps per trace, 8 samples stay under lavapipe's 65535.
+pub const SAMPLES_PER_DISPATCH: u32 = 8;
+
+/// The most dispatches one pass may become (8192 samples a frame).
+const MAX_DISPATCHES: u64 = 1024;
+
+/// The graph with every splittable pass expanded (None: nothing to do).
+pub(super) fn split_sample_loops(desc: &FrameGraph, shaders: &BTreeMap<String, ShaderInfo>) -> Result<Option<FrameGraph>, CompileError> {
+    let mut out = desc.clone();
+    let mut changed = false;
+    out.passes.clear();
+    for pass in &desc.passes {
+        let Some(param) = sample_param(pass, shaders) else {
+            out.passes.push(pass.clone());
+            continue;
+        };
+        changed = true;
+        let done = format!("{param}_done");
+        if pass.params.contains_key(&done) {
+            return Err(err(ErrorKind::BadParam, Some(&pass.name), format!("`{done}` is set by the engine (it splits `{param}` across dispatches); leave it out")));
+        }
+        let total = match pass.params.get(param.as_str()) {
+            Some(ParamValue::Int(n)) if *n >= 1 && *n <= i64::from(u32::MAX) => *n as u64,
+            // The packer reports a missing or malformed value.
+            _ => {
+                let mut p = pass.clone();
+                p.params.insert(done, ParamValue::Int(0));
+                out.passes.push(p);
+                continue;
+            }
+        };
+        let chunks = total.div_ceil(u64::from(SAMPLES_PER_DISPATCH));
+        if chunks > MAX_DISPATCHES {
+            return Err(err(
+                ErrorKind::BadParam,
+                Some(&pass.name),
+                format!(
+                    "`{param}` = {total} would take {chunks} dispatches of at most {SAMPLES_PER_DISPATCH} samples a frame; at most {} samples a frame ({MAX_DISPATCHES} dispatches): accumulate frames for more",
+                    MAX_DISPATCHES * u64::from(SAMPLES_PER_DISPATCH)
+                ),
+            ));
+        }
+        let mut so_far = 0u64;
+        for k in 0..chunks {
+            // Shares as equal as can be: the first (total % chunks) get one more.
+            let share = total / chunks + u64::from(k < total % chunks);
+            let mut p = pass.clone();
+            p.params.insert(param.clone(), ParamValue::Int(share as i64));
+            p.params.insert(done.clone(), ParamValue::Int(so_far as i64));
+            if k > 0 {
+                p.name = format!("{}#{}", pass.name, k + 1);
+                let entry = format!("{}_more", pass.entry.clone().unwrap_or_else(|| "main".to_string()));
+                let more = shaders.get(&pass.shader).and_then(|s| s.entry_points.iter().find(|e| e.name == entry));
+                let Some(more) = more else {
+                    return Err(err(
+                        ErrorKind::UnknownEntry,
+                        Some(&pass.name),
+                        format!("`{param}` = {total} is split across {chunks} dispatches of at most {SAMPLES_PER_DISPATCH}, which needs the entry point `{entry}` in {}", pass.shader),
+                    ));
+                };
+                for b in &more.bindings {
+                    if let Some(y) = b.name.strip_suffix("_acc") {
+                        let target = pass.bind.get(y).cloned().unwrap_or_else(|| y.to_string());
+                        p.bind.insert(b.name.clone(), target);
+                    }
+                }
+                p.entry = Some(entry);
+            }
+            so_far += share;
+            out.passes.push(p);
+        }
+    }
+    Ok(changed.then_some(out))
+}
+
+/// The name `X` of a pass's splittable sample count: its shader's params
+/// have u32 members `X` and `X_done`.
+fn sample_param(pass: &PassDesc, shaders: &BTreeMap<String, ShaderInfo>) -> Option<String> {
+    let layout = shaders.get(&pass.shader)?.params.as_ref()?;
+    let is_u32 = |name: &str| layout.members.iter().any(|m| m.name == name && m.scalar == ScalarType::U32 && m.components == 1);
+    layout
+        .members
+        .iter()
+        .filter_map(|m| m.name.strip_suffix("_done"))
+        .find(|x| is_u32(x) && is_u32(&format!("{x}_done")))
+        .map(str::to_string)
+}
