@@ -6,7 +6,7 @@ override AXIS: u32 = 0u;
 
 struct Params {
     sigma: f32, // ui: 0.25..8 log
-    radius: u32, // ui: 0..16
+    radius: u32, // ui: 0..16 limit
 }
 
 @group(0) @binding(0) var<uniform> params: Params;

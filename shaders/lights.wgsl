@@ -11,7 +11,7 @@ override SPHERE_MODE: u32 = 2u;
 override POINT_LIGHTS: bool = true;
 
 struct Params {
-    samples: u32, // ui: 1..64 "samples per light"
+    samples: u32, // ui: 1..64 limit "samples per light"
     falloff: u32, // ui: 0..1 "falloff (0 inverse-square, 1 exponential)"
     falloff_k: f32, // ui: 0..10 "exponential falloff k"
 }

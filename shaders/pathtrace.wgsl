@@ -9,7 +9,7 @@
 
 struct Params {
     spp: u32, // ui: 1..64 "samples per pixel"
-    max_depth: u32, // ui: 1..16 "max bounces"
+    max_depth: u32, // ui: 1..64 limit "max bounces"
     rr_depth: u32, // ui: 0..16 "roulette from bounce"
     // Samples already in `radiance` from earlier dispatches this frame: the
     // engine splits spp across dispatches of at most 8 (drivers bound the

@@ -4,7 +4,7 @@
 #import lights
 
 struct Params {
-    samples: u32, // ui: 1..64 "extra samples"
+    samples: u32, // ui: 1..64 limit "extra samples"
     base_samples: u32, // ui: 1..64 "samples of the base pass"
     falloff: u32, // ui: 0..1
     falloff_k: f32, // ui: 0..10

@@ -9,8 +9,8 @@
 #import lights
 
 struct Params {
-    max_depth: u32, // ui: 1..8 "max depth"
-    samples: u32, // ui: 1..16
+    max_depth: u32, // ui: 1..8 limit "max depth"
+    samples: u32, // ui: 1..16 limit
     reuse: u32, // ui: bool "screen-space reuse"
 }
 

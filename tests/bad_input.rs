@@ -145,6 +145,8 @@ fn bad_input_is_a_clear_error() {
         ("a sphere of radius 1e8 seen from 1 off its surface", vec!["graph", "check", "passes/direct.ron", "--scene", &ground], vec!["ground.ron:", "radius 1e8 seen from ", "model a large ground or wall as a Quad"]),
         ("a camera at z = 3e38", vec!["graph", "check", "passes/direct.ron", "--scene", &cam], vec!["cam.ron:", "is 3e38 from the camera at (0, 0, 3e38)"]),
         ("a mesh scaled by 1e19", vec!["graph", "check", "passes/direct.ron", "--scene", &scaled], vec!["scaled.ron:3", "beyond glint's range"]),
+        ("refine.samples = 4e9 (a loop count beyond its limit)", vec!["graph", "check", "passes/hybrid.ron", "--scene", "scenes/cornell.ron", "--set", "refine.samples=4000000000"], vec!["hybrid.ron:", "pass `refine`", "`samples` = 4000000000 is outside its limit 1..64"]),
+        ("lights.samples = 0", vec!["graph", "check", "passes/direct.ron", "--scene", "scenes/cornell.ron", "--set", "lights_area.samples=0"], vec!["direct.ron:", "outside its limit 1..64"]),
         ("--time NaN", vec!["render", "scenes/cornell.ron", "--time", "NaN", "--out", &out], vec!["--time", "finite number of seconds"]),
         ("--dt inf", vec!["render", "scenes/cornell.ron", "--dt", "inf", "--out", &out], vec!["--dt", "finite number of seconds"]),
         ("--camera-path orbit:3e38", vec!["render", "scenes/cornell.ron", "--camera-path", "orbit:3e38", "--out", &out], vec!["orbit:3e38", "within +-360000"]),

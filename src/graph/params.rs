@@ -100,6 +100,14 @@ pub fn encode(m: &ParamMember, value: &ParamValue) -> Result<Vec<[u8; 4]>, Param
     if scalars.len() != m.components as usize {
         return Err(ParamError::Bad(format!("param `{}` needs {} value(s), got {}", m.name, m.components, scalars.len())));
     }
+    if let Some((lo, hi)) = m.limit {
+        if let Some(x) = scalars.iter().find(|x| !(lo..=hi).contains(*x)) {
+            return Err(ParamError::Bad(format!(
+                "param `{}` = {x} is outside its limit {lo}..{hi} (a loop count: one invocation may only do so much; accumulate frames for more)",
+                m.name
+            )));
+        }
+    }
     scalars
         .iter()
         .map(|&x| match m.scalar {
@@ -124,9 +132,9 @@ mod tests {
         ParamsLayout {
             size: 32,
             members: vec![
-                ParamMember { name: "gain".into(), offset: 0, scalar: ScalarType::F32, components: 1 },
-                ParamMember { name: "count".into(), offset: 4, scalar: ScalarType::U32, components: 1 },
-                ParamMember { name: "tint".into(), offset: 16, scalar: ScalarType::F32, components: 3 },
+                ParamMember { name: "gain".into(), offset: 0, scalar: ScalarType::F32, components: 1, limit: None },
+                ParamMember { name: "count".into(), offset: 4, scalar: ScalarType::U32, components: 1, limit: None },
+                ParamMember { name: "tint".into(), offset: 16, scalar: ScalarType::F32, components: 3, limit: None },
             ],
         }
     }
@@ -174,5 +182,15 @@ mod tests {
     fn missing_member_is_an_error() {
         let v = values(&[("gain", ParamValue::Float(0.5))]);
         assert!(matches!(pack("s.wgsl", &layout(), &v), Err(ParamError::Missing(m)) if m.contains("`count`")));
+    }
+
+    #[test]
+    fn limited_members_refuse_values_outside_their_range() {
+        let m = ParamMember { name: "samples".into(), offset: 0, scalar: ScalarType::U32, components: 1, limit: Some((1.0, 64.0)) };
+        assert!(encode(&m, &ParamValue::Int(64)).is_ok());
+        for bad in [0, 65, 4_000_000_000] {
+            let e = encode(&m, &ParamValue::Int(bad)).unwrap_err();
+            assert!(e.message().contains("outside its limit 1..64"), "{}", e.message());
+        }
     }
 }

@@ -90,7 +90,7 @@ fn kit() -> Vec<ShaderInfo> {
 }
 
 fn member(name: &str, offset: u32, scalar: ScalarType, components: u32) -> ParamMember {
-    ParamMember { name: name.into(), offset, scalar, components }
+    ParamMember { name: name.into(), offset, scalar, components, limit: None }
 }
 
 /// `struct Params { gain: f32, count: u32, bias: i32, tint: vec3<f32> }`.

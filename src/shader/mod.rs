@@ -2,6 +2,7 @@
 //! to the original files, and reflection into `ShaderInfo`.
 
 pub mod budget;
+pub mod hints;
 pub mod reflect;
 pub mod source;
 
@@ -206,6 +207,7 @@ fn params_layout(src: &ShaderSource, module: &naga::Module) -> Result<Option<Par
     if var.space != naga::AddressSpace::Uniform {
         return Err(UserError::at(location, "`params` must be declared var<uniform>"));
     }
+    let hints = hints::params_hints(&src.text);
     let mut out = Vec::new();
     for m in members {
         let inner = &module.types[m.ty].inner;
@@ -220,7 +222,9 @@ fn params_layout(src: &ShaderSource, module: &naga::Module) -> Result<Option<Par
                 format!("params member `{}` must be f32, u32, i32 or a vector of them", m.name.as_deref().unwrap_or("?")),
             )
         })?;
-        out.push(ParamMember { name: m.name.clone().unwrap_or_default(), offset: m.offset, scalar, components });
+        let name = m.name.clone().unwrap_or_default();
+        let limit = hints.get(&name).filter(|h| h.limit).and_then(|h| h.range);
+        out.push(ParamMember { name, offset: m.offset, scalar, components, limit });
     }
     Ok(Some(ParamsLayout { size: *span, members: out }))
 }

@@ -99,6 +99,9 @@ pub struct ParamMember {
     pub scalar: ScalarType,
     /// 1 for a scalar, 2..4 for a vector.
     pub components: u32,
+    /// The range values must keep to (`// ui: MIN..MAX limit`), with the
+    /// source line that declares it.
+    pub limit: Option<(f64, f64)>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

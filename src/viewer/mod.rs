@@ -10,7 +10,6 @@ pub mod panels;
 pub mod present;
 mod reloader;
 mod screenshot;
-pub mod ui_hints;
 
 use std::path::PathBuf;
 

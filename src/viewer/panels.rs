@@ -16,7 +16,7 @@ use crate::session::frame_loop::FrameLoop;
 use crate::session::Session;
 use crate::shader::{ParamMember, ScalarType};
 use crate::viewer::present::Channel;
-use crate::viewer::ui_hints::{params_hints, Hint};
+use crate::shader::hints::{params_hints, Hint};
 
 /// What the user asked for this frame.
 #[derive(Debug, Clone, PartialEq)]

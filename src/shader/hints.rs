@@ -1,4 +1,4 @@
-//! How the viewer shows a pass's params: read from `// ui:` annotations on
+//! How a pass's params are shown and bounded: read from `// ui:` annotations on
 //! the members of the shader's `Params` struct (naga drops comments, so the
 //! source text is read). The convention, documented in the README:
 //!
@@ -14,6 +14,9 @@
 //! `MIN..MAX` gives a slider (`log` makes it logarithmic), `bool` a
 //! checkbox for a u32, `color` a colour picker for a vec3f; a quoted string
 //! is the label. A member without an annotation gets a drag value.
+//! `limit` makes the range binding: values outside it are refused by
+//! compile and `set_param` (loop counts: a driver bounds the loop
+//! iterations of one invocation, lavapipe at 65535 in all).
 
 use std::collections::BTreeMap;
 
@@ -23,6 +26,8 @@ pub struct Hint {
     pub log: bool,
     pub checkbox: bool,
     pub color: bool,
+    /// The range is enforced, not just the slider's.
+    pub limit: bool,
     pub label: Option<String>,
 }
 
@@ -43,6 +48,7 @@ pub fn parse_hint(text: &str) -> Option<Hint> {
             "log" => hint.log = true,
             "bool" => hint.checkbox = true,
             "color" | "colour" => hint.color = true,
+            "limit" => hint.limit = true,
             w => {
                 let (lo, hi) = w.split_once("..")?;
                 let (lo, hi): (f64, f64) = (lo.parse().ok()?, hi.parse().ok()?);
@@ -95,5 +101,7 @@ mod tests {
         assert!(h["reuse"].checkbox);
         assert!(h["tint"].color && h["tint"].label.as_deref() == Some("tint"));
         assert!(!h.contains_key("odd") && !h.contains_key("plain") && !h.contains_key("x"));
+        let limited = parse_hint("1..64 limit \"samples\"").unwrap();
+        assert!(limited.limit && limited.range == Some((1.0, 64.0)));
     }
 }
