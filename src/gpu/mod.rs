@@ -28,6 +28,13 @@ pub struct Gpu {
     pub uncaptured: Arc<Mutex<Vec<String>>>,
 }
 
+/// How long glint waits for the GPU to finish submitted work before it
+/// gives up with an error: `GLINT_GPU_TIMEOUT_S`, 120 s by default.
+pub fn gpu_timeout() -> std::time::Duration {
+    let secs = std::env::var("GLINT_GPU_TIMEOUT_S").ok().and_then(|v| v.parse::<f64>().ok()).filter(|s| s.is_finite() && *s > 0.0).unwrap_or(120.0);
+    std::time::Duration::from_secs_f64(secs.min(1e6))
+}
+
 const NO_ADAPTER_HELP: &str = "no GPU adapter found. glint needs Vulkan, Metal or DX12; on a machine \
 without a GPU, install Mesa's CPU driver (Debian/Ubuntu: `apt-get install -y mesa-vulkan-drivers`) \
 and run with WGPU_BACKEND=vulkan. WGPU_ADAPTER_NAME=<substring> picks an adapter by name.";
@@ -120,9 +127,16 @@ impl Gpu {
         })
     }
 
-    /// Waits for all submitted work.
-    pub fn wait(&self) {
-        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+    /// Waits for all submitted work, at most `gpu_timeout()` (a watchdog:
+    /// on a GPU a runaway pass would otherwise keep the frame forever).
+    /// False when it timed out.
+    pub fn wait(&self) -> bool {
+        let poll = self.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(gpu_timeout()) });
+        if let Err(wgpu::PollError::Timeout) = poll {
+            eprintln!("glint: the GPU did not finish its work within {} s (GLINT_GPU_TIMEOUT_S sets the limit)", gpu_timeout().as_secs_f64());
+            return false;
+        }
+        true
     }
 }
 

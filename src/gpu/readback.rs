@@ -82,7 +82,13 @@ pub fn map_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Result<Vec<u8
     buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);
     });
-    let _ = device.poll(wgpu::PollType::wait_indefinitely());
+    let timeout = super::gpu_timeout();
+    if let Err(wgpu::PollError::Timeout) = device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(timeout) }) {
+        return Err(UserError::new(format!(
+            "the GPU did not finish its work within {} s (GLINT_GPU_TIMEOUT_S sets the limit); a pass may loop for too long: render smaller or with fewer samples",
+            timeout.as_secs_f64()
+        )));
+    }
     match rx.recv() {
         Ok(Ok(())) => {}
         Ok(Err(e)) => return Err(UserError::new(format!("GPU readback failed: {e}"))),
