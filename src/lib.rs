@@ -21,6 +21,7 @@ pub mod image_io;
 pub mod machines;
 pub mod mean;
 pub mod metrics;
+pub mod probes;
 pub mod reload;
 pub mod sampling;
 pub mod scene;
