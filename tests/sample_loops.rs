@@ -75,6 +75,8 @@ fn spp_600_is_600_accumulated_frames() {
     let compiled = compile(&scene(), &graph(), &CompileOptions::default());
     let mut s = session(gpu, scene(), &compiled, size, 1);
     s.set_param("pathtrace", "spp", ParamValue::Int(600)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.split_total("pathtrace", "spp"), Some(600), "the total over the split dispatches");
+    assert_eq!(s.split_total("pathtrace", "max_depth"), None);
     s.frame(0.0);
     let live = s.read_output().unwrap_or_else(|e| panic!("{e}"));
     assert!(live.data == one_frame.data, "set_param differs from --set");

@@ -335,6 +335,20 @@ impl Session {
         let sp = self.executor.schedule.passes.iter().find(|p| p.name == pass)?;
         sp.params.as_ref()?.values.get(name)
     }
+    /// A sample count the engine splits across dispatches (a member with
+    /// an `_done` sibling; graph/compile/split.rs), summed over the pass
+    /// and its `pass#k` continuations; None when `name` is not one.
+    pub fn split_total(&self, pass: &str, name: &str) -> Option<i64> {
+        let first = self.executor.schedule.passes.iter().find(|p| p.name == pass)?;
+        first.params.as_ref()?.member(&format!("{name}_done"))?;
+        let more = format!("{pass}#");
+        let shares = self.executor.schedule.passes.iter().filter(|p| p.name == pass || p.name.starts_with(&more));
+        Some(shares.filter_map(|p| match p.params.as_ref()?.values.get(name)? {
+            ParamValue::Int(n) => Some(*n),
+            _ => None,
+        }).sum())
+    }
+
 
     // -- rebuilds ----------------------------------------------------------
 

@@ -217,6 +217,15 @@ fn params(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut 
                 if m.name.strip_suffix("_done").is_some_and(|x| p.values.contains_key(x)) {
                     continue;
                 }
+                // A split count shows the total over its dispatches.
+                let total;
+                let value = match session.split_total(&sp.name, &m.name) {
+                    Some(n) => {
+                        total = ParamValue::Int(n);
+                        &total
+                    }
+                    None => value,
+                };
                 if let Some(v) = param_widget(ui, m, value, hints.get(&m.name)) {
                     actions.push(Action::SetParam { pass: sp.name.clone(), name: m.name.clone(), value: v });
                 }
