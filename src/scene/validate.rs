@@ -59,27 +59,17 @@ impl<'a, 'l> Ctx<'a, 'l> {
 
     fn finite(&self, field: &'a str, v: V3) -> Res<Vec3> {
         let v = Vec3::from_array(v);
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(self.err(
-                field,
-                format_args!("`{field}` has a NaN or infinite component: {}", show(v)),
-            ))
-        }
+        if v.is_finite() { Ok(v) } else { Err(self.non_finite(field, show(v))) }
     }
 
     /// A finite position (f64).
     fn place(&self, field: &'a str, v: P3) -> Res<DVec3> {
         let v = DVec3::from_array(v);
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(self.err(
-                field,
-                format_args!("`{field}` has a NaN or infinite component: {}", show(v)),
-            ))
-        }
+        if v.is_finite() { Ok(v) } else { Err(self.non_finite(field, show(v))) }
+    }
+
+    fn non_finite(&self, field: &'a str, shown: String) -> UserError {
+        self.err(field, format_args!("`{field}` has a NaN or infinite component: {shown}"))
     }
 
     /// Finite and every component >= 0 (colours, radiance, intensity).

@@ -184,9 +184,8 @@ impl Session {
     /// per-pass timings that are ready (see `Executor::run_frame`).
     pub fn frame(&mut self, time: f32) -> Vec<PassTimings> {
         self.release_retired();
-        self.scene.animate(&self.gpu.queue, time);
         let world_camera = self.scene.scene.camera;
-        self.scene.follow(&self.gpu.queue, world_camera.position);
+        self.scene.update(&self.gpu.queue, time, world_camera.position);
         let origin = self.scene.origin;
         let camera = CameraGpu::new(&world_camera, origin, self.size);
         let epoch = self.scene.buffers.epoch;
@@ -335,6 +334,7 @@ impl Session {
         let sp = self.executor.schedule.passes.iter().find(|p| p.name == pass)?;
         sp.params.as_ref()?.values.get(name)
     }
+
     /// A sample count the engine splits across dispatches (a member with
     /// an `_done` sibling; graph/compile/split.rs), summed over the pass
     /// and its `pass#k` continuations; None when `name` is not one.
@@ -348,7 +348,6 @@ impl Session {
             _ => None,
         }).sum())
     }
-
 
     // -- rebuilds ----------------------------------------------------------
 

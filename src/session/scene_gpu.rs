@@ -5,7 +5,7 @@
 //! Camera-relative rendering: the world is f64; the GPU sees it relative to
 //! `origin`, which starts at the world origin and jumps to a grid point near
 //! the camera whenever the camera gets farther from it than a few scene
-//! sizes (`follow`). So a scene anywhere renders with the precision it has
+//! sizes (`update`). So a scene anywhere renders with the precision it has
 //! at the origin, and a camera that stays near its scene never rebases.
 
 use glam::DVec3;
@@ -35,7 +35,7 @@ pub struct SceneGpu {
     /// What the GPU's positions are relative to (world, f64): a multiple of
     /// `offset_scale` in each component.
     pub origin: DVec3,
-    /// A pinned origin is never moved by `follow` (set with `pin_origin`:
+    /// A pinned origin is never moved by `update` (set with `pin_origin`:
     /// tests that trace in world coordinates).
     pinned: bool,
 }
@@ -68,27 +68,25 @@ impl SceneGpu {
         Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale, origin, pinned: false })
     }
 
-    /// Moves the scene to time `t` and uploads what changed.
-    pub fn animate(&mut self, queue: &wgpu::Queue, t: f32) {
-        if self.scene.animate(t) {
+    /// Moves the scene to time `t` and, unless the origin is pinned,
+    /// rebases it on a grid point near `camera` when the camera is too far
+    /// from the current origin; packs, updates the BVH and uploads once for
+    /// both. A rebase alone keeps the epoch (nothing moved, history stays).
+    pub fn update(&mut self, queue: &wgpu::Queue, t: f32, camera: DVec3) {
+        let moved = self.scene.animate(t);
+        let rebase = if self.pinned { None } else { rebased_origin(self.origin, camera, self.offset_scale) };
+        if let Some(origin) = rebase {
+            self.origin = origin;
+        }
+        if moved || rebase.is_some() {
             let mut data = self.scene.pack_at(self.origin);
             self.bvh_stats = self.bvh.update(&mut data);
-            self.buffers.update(queue, data);
+            if moved {
+                self.buffers.update(queue, data);
+            } else {
+                self.buffers.rebase(queue, data);
+            }
         }
-    }
-
-    /// Rebases the GPU's positions on a grid point near `camera` if the
-    /// camera is too far from the current origin. The scene has not changed,
-    /// so history is kept (the epoch stays). Returns true if it rebased.
-    pub fn follow(&mut self, queue: &wgpu::Queue, camera: DVec3) -> bool {
-        if self.pinned {
-            return false;
-        }
-        let Some(origin) = rebased_origin(self.origin, camera, self.offset_scale) else {
-            return false;
-        };
-        self.rebase(queue, origin);
-        true
     }
 
     /// Rebases on `origin` and keeps it there, wherever the camera goes.
