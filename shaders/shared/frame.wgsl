@@ -38,6 +38,11 @@ struct Frame {
     // offset_ray's near-origin threshold and fixed offset grow with it, so
     // a scene scaled by s offsets its rays by s too (src/bvh/offset.rs).
     offset_scale: f32,
+    // The graph's probe grid (`probes:` in a graph), relative to the scene
+    // origin: probe (0,0,0), the spacing, probes per axis (0: no probes).
+    probe_origin: vec3f,
+    probe_n: u32,
+    probe_spacing: vec3f,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

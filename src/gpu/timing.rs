@@ -26,13 +26,16 @@ const FAILED: u8 = 3;
 pub struct FrameStamps {
     /// The frame number the caller gave `resolve`.
     pub frame: u64,
-    pub ms: Vec<f64>,
+    /// None for a pass that did not run in that frame.
+    pub ms: Vec<Option<f64>>,
 }
 
 struct Slot {
     read: wgpu::Buffer,
     state: Arc<AtomicU8>,
     frame: u64,
+    /// Which passes wrote their timestamps in that frame.
+    ran: Vec<bool>,
 }
 
 pub struct PassTimer {
@@ -59,6 +62,7 @@ impl PassTimer {
                 }),
                 state: Arc::new(AtomicU8::new(FREE)),
                 frame: 0,
+                ran: Vec::new(),
             })
             .collect();
         PassTimer {
@@ -87,23 +91,29 @@ impl PassTimer {
         self.current.is_some()
     }
 
-    /// Timestamp writes for pass `pass`, when this frame is timed.
-    pub fn writes(&self, pass: usize) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    /// Timestamp writes for pass `pass`, when this frame is timed: the
+    /// begin stamp on its first compute pass, the end stamp on its last
+    /// (a pass of several dispatches is timed as a whole).
+    pub fn writes(&self, pass: usize, first: bool, last: bool) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         self.current?;
+        if !first && !last {
+            return None;
+        }
         Some(wgpu::ComputePassTimestampWrites {
             query_set: &self.query_set,
-            beginning_of_pass_write_index: Some(2 * pass as u32),
-            end_of_pass_write_index: Some(2 * pass as u32 + 1),
+            beginning_of_pass_write_index: first.then_some(2 * pass as u32),
+            end_of_pass_write_index: last.then_some(2 * pass as u32 + 1),
         })
     }
 
     /// Records the resolve and the copy into this frame's slot at the end
-    /// of the frame's encoder.
-    pub fn resolve(&mut self, enc: &mut wgpu::CommandEncoder, frame: u64) {
+    /// of the frame's encoder; `ran` says which passes wrote stamps.
+    pub fn resolve(&mut self, enc: &mut wgpu::CommandEncoder, frame: u64, ran: Vec<bool>) {
         let Some(i) = self.current else { return };
         enc.resolve_query_set(&self.query_set, 0..2 * self.passes, &self.resolve, 0);
         enc.copy_buffer_to_buffer(&self.resolve, 0, &self.slots[i].read, 0, self.resolve.size());
         self.slots[i].frame = frame;
+        self.slots[i].ran = ran;
     }
 
     /// After the frame was submitted: starts mapping its slot.
@@ -128,7 +138,10 @@ impl PassTimer {
                         let ticks: Vec<u64> =
                             view.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect();
                         let ms = (0..self.passes as usize)
-                            .map(|p| ticks[2 * p + 1].saturating_sub(ticks[2 * p]) as f64 * f64::from(self.period_ns) / 1e6)
+                            .map(|p| {
+                                let ran = slot.ran.get(p).copied().unwrap_or(true);
+                                ran.then(|| ticks[2 * p + 1].saturating_sub(ticks[2 * p]) as f64 * f64::from(self.period_ns) / 1e6)
+                            })
                             .collect();
                         done.push(FrameStamps { frame: slot.frame, ms });
                     }

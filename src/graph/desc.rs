@@ -18,6 +18,49 @@ pub struct FrameGraph {
     pub resources: BTreeMap<String, ResourceDesc>,
     pub passes: Vec<PassDesc>,
     pub output: String,
+    /// The irradiance-volume probe grid, for graphs with probe passes
+    /// (sizes `ProbeTiles`, the `frame` uniform's probe fields).
+    #[serde(default)]
+    pub probes: Option<ProbesDesc>,
+}
+
+/// Which irradiance volume a graph builds: chapter 3's hemisphere maps or
+/// DDGI's octahedral maps. Passes pick theirs with `requires: [ThesisProbes]`
+/// or `requires: [DdgiProbes]`; the other mode's passes are culled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+pub enum ProbeMode {
+    Thesis,
+    Ddgi,
+}
+
+/// `probes: (mode: Thesis, level: 7, padding: 0.1)`: (level+1)^3 probes over
+/// the scene's bounds minus `padding` times the extent on each side.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbesDesc {
+    pub mode: ProbeMode,
+    #[serde(default = "default_level")]
+    pub level: u32,
+    #[serde(default = "default_padding")]
+    pub padding: f32,
+}
+
+fn default_level() -> u32 {
+    7
+}
+
+fn default_padding() -> f32 {
+    0.1
+}
+
+/// The largest probe level: (L+1)^2 tiles side by side must fit a texture.
+pub const MAX_PROBE_LEVEL: u32 = 15;
+
+impl ProbesDesc {
+    /// Probes per axis.
+    pub fn per_axis(&self) -> u32 {
+        self.level + 1
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -35,6 +78,12 @@ pub struct TextureDesc {
     /// Survives across frames (read at version 0 = last frame's result).
     #[serde(default)]
     pub history: bool,
+    /// One texture that survives across frames, never pooled, written in
+    /// place: what a pass that does not run every frame writes (a probe
+    /// volume). Read before any write of a frame, it holds what the last
+    /// write left, in whichever frame that was.
+    #[serde(default)]
+    pub persistent: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Default)]
@@ -45,6 +94,10 @@ pub enum SizeDesc {
     /// The render size times a factor (at least 1x1).
     Scaled(f32),
     Fixed(u32, u32),
+    /// One tile of w x h texels per probe of the graph's `probes` grid:
+    /// (n^2 w) x (n h) for n probes per axis, probe (i, j, k) at tile
+    /// (i + n j, k). Compile turns it into `Fixed`.
+    ProbeTiles(u32, u32),
 }
 
 impl SizeDesc {
@@ -56,6 +109,53 @@ impl SizeDesc {
                 ((screen.1 as f32 * s).round() as u32).max(1),
             ),
             SizeDesc::Fixed(w, h) => (w.max(1), h.max(1)),
+            // Resolved by compile; a tile stands in for a graph without probes.
+            SizeDesc::ProbeTiles(w, h) => (w.max(1), h.max(1)),
+        }
+    }
+
+    /// `ProbeTiles` for `n` probes per axis as `Fixed`; others unchanged.
+    pub fn for_probes(self, n: u32) -> SizeDesc {
+        match self {
+            SizeDesc::ProbeTiles(w, h) => SizeDesc::Fixed(n * n * w, n * h),
+            other => other,
+        }
+    }
+}
+
+/// When a pass runs (`run:` in a graph). Passes that do not run every frame
+/// may write only persistent resources, which keep what they wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+pub enum RunMode {
+    #[default]
+    EveryFrame,
+    /// In the first frame after the graph is built (load, reload).
+    Once,
+    /// In the first frame and in every frame whose scene changed (a light
+    /// or object moved) since the pass last ran.
+    OnSceneChange,
+    /// `per_frame` dispatches a frame, each one iteration (the `run`
+    /// uniform counts them), until `until` iterations since the scene last
+    /// changed (forever without `until`); a scene change starts the count
+    /// again.
+    Progressive {
+        per_frame: u32,
+        #[serde(default)]
+        until: Option<u32>,
+    },
+}
+
+impl RunMode {
+    /// As `graph check` prints it.
+    pub fn describe(self) -> String {
+        match self {
+            RunMode::EveryFrame => "every frame".into(),
+            RunMode::Once => "once, after the graph is built".into(),
+            RunMode::OnSceneChange => "once, then whenever the scene changes".into(),
+            RunMode::Progressive { per_frame, until: Some(u) } => {
+                format!("{per_frame} iterations a frame until {u} since the scene last changed")
+            }
+            RunMode::Progressive { per_frame, until: None } => format!("{per_frame} iterations every frame"),
         }
     }
 }
@@ -92,6 +192,13 @@ pub struct PassDesc {
     /// Shader variable name -> graph resource name, for names that differ.
     #[serde(default, deserialize_with = "named_map")]
     pub bind: BTreeMap<String, String>,
+    /// When the pass runs; every frame by default.
+    #[serde(default)]
+    pub run: RunMode,
+    /// Invocations (x, y); by default one per texel of the first resource
+    /// written.
+    #[serde(default)]
+    pub dispatch: Option<SizeDesc>,
 }
 
 /// A map key written bare (`{ samples: 1 }`, as the shipped graphs write them) or quoted
@@ -137,14 +244,48 @@ impl FrameGraph {
                     Some(format!("`Scaled({s})`: the scale must be a finite number in (0, 16]"))
                 }
                 SizeDesc::Fixed(w, h) if w == 0 || h == 0 => Some(format!("`Fixed({w}, {h})` is empty: both sides must be at least 1")),
+                SizeDesc::ProbeTiles(w, h) => self.check_tiles(w, h).err(),
                 _ => None,
             };
+            let bad = bad.or_else(|| {
+                (t.history && t.persistent).then(|| "is both `history` (two textures, alternating) and `persistent` (one texture); pick one".to_string())
+            });
             if let Some(message) = bad {
                 let line = crate::error::line_of(text, &format!("\"{name}\"")).unwrap_or(0);
                 return Err(UserError::at(crate::error::Location::at(path, line, 0), format!("resource `{name}`: {message}")));
             }
         }
+        if let Some(p) = &self.probes {
+            let bad = if p.level == 0 || p.level > MAX_PROBE_LEVEL {
+                Some(format!("`level: {}`: between 1 and {MAX_PROBE_LEVEL} ((L+1)^3 probes)", p.level))
+            } else if !(p.padding.is_finite() && (0.0..0.5).contains(&p.padding)) {
+                Some(format!("`padding: {}`: a fraction of the scene's extent in [0, 0.5)", p.padding))
+            } else {
+                None
+            };
+            if let Some(message) = bad {
+                let line = crate::error::line_of(text, "probes:").unwrap_or(0);
+                return Err(UserError::at(crate::error::Location::at(path, line, 0), format!("probes: {message}")));
+            }
+        }
         Ok(())
+    }
+
+    /// A `ProbeTiles(w, h)` size: non-empty tiles, a `probes` grid to tile,
+    /// and an atlas within a texture's side.
+    pub fn check_tiles(&self, w: u32, h: u32) -> Result<(), String> {
+        let Some(p) = &self.probes else {
+            return Err(format!("`ProbeTiles({w}, {h})` needs the graph's `probes: (mode: .., level: ..)` grid"));
+        };
+        let n = u64::from(p.per_axis());
+        let (aw, ah) = (n * n * u64::from(w), n * u64::from(h));
+        if w == 0 || h == 0 {
+            Err(format!("`ProbeTiles({w}, {h})` is empty: both sides must be at least 1"))
+        } else if aw > 16384 || ah > 16384 {
+            Err(format!("`ProbeTiles({w}, {h})` at probe level {} makes a {aw}x{ah} atlas, beyond 16384 texels a side; lower the level or the tile", p.level))
+        } else {
+            Ok(())
+        }
     }
 
     pub fn load(path: &Path) -> Result<FrameGraph, UserError> {

@@ -5,7 +5,7 @@
 //! pass` drops every pass after it in file order (to view a pass's own
 //! output of a resource that later passes overwrite).
 
-use crate::graph::desc::{FrameGraph, ParamValue};
+use crate::graph::desc::{FrameGraph, ParamValue, ProbeMode, MAX_PROBE_LEVEL};
 
 /// One `pass.param=value` override.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,7 +26,15 @@ impl std::str::FromStr for ParamSet {
         if pass.is_empty() || param.is_empty() {
             return Err(format!("`{s}`: expected pass.param=value"));
         }
-        Ok(ParamSet { pass: pass.trim().to_string(), param: param.trim().to_string(), value: parse_value(value.trim())? })
+        let (pass, param, value) = (pass.trim(), param.trim(), value.trim());
+        // The probe mode is a name: thesis is 0, ddgi 1.
+        let value = match (pass, param, value.to_ascii_lowercase().as_str()) {
+            (PROBES, "mode", "thesis") => ParamValue::Int(0),
+            (PROBES, "mode", "ddgi") => ParamValue::Int(1),
+            (PROBES, "mode", _) => return Err(format!("`{s}`: the probe mode is `thesis` or `ddgi`")),
+            _ => parse_value(value)?,
+        };
+        Ok(ParamSet { pass: pass.to_string(), param: param.to_string(), value })
     }
 }
 
@@ -68,7 +76,10 @@ impl GraphEdits {
     pub fn apply(&self, desc: &FrameGraph) -> Result<FrameGraph, String> {
         let mut g = desc.clone();
         let known = || pass_list(desc);
-        for s in &self.set {
+        for s in self.set.iter().filter(|s| s.pass == PROBES) {
+            set_probes(&mut g, s)?;
+        }
+        for s in self.set.iter().filter(|s| s.pass != PROBES) {
             let pass = g
                 .passes
                 .iter_mut()
@@ -92,6 +103,29 @@ impl GraphEdits {
         }
         Ok(g)
     }
+}
+
+/// `--set probes.X=V` edits the graph's probe grid, not a pass.
+const PROBES: &str = "probes";
+
+fn set_probes(g: &mut FrameGraph, s: &ParamSet) -> Result<(), String> {
+    let what = format!("--set probes.{}", s.param);
+    let Some(p) = &mut g.probes else {
+        return Err(format!("{what}: graph `{}` has no `probes` grid", g.name));
+    };
+    let bad = || format!("{what}: `{:?}` is not a valid value", s.value);
+    match (s.param.as_str(), &s.value) {
+        ("mode", ParamValue::Int(0)) => p.mode = ProbeMode::Thesis,
+        ("mode", ParamValue::Int(1)) => p.mode = ProbeMode::Ddgi,
+        ("level", ParamValue::Int(l)) if (1..=i64::from(MAX_PROBE_LEVEL)).contains(l) => p.level = *l as u32,
+        ("level", _) => return Err(format!("{what}: the level is an integer in 1..={MAX_PROBE_LEVEL}")),
+        ("padding", ParamValue::Float(f)) if (0.0..0.5).contains(f) => p.padding = *f as f32,
+        ("padding", ParamValue::Int(0)) => p.padding = 0.0,
+        ("padding", _) => return Err(format!("{what}: the padding is a fraction in [0, 0.5)")),
+        ("mode", _) => return Err(bad()),
+        (other, _) => return Err(format!("--set probes.{other}: the probe grid has mode, level and padding")),
+    }
+    Ok(())
 }
 
 fn pass_list(desc: &FrameGraph) -> String {

@@ -18,6 +18,8 @@ use crate::gpu::readback::{read_texture, ImageF32};
 use crate::gpu::timing::PassTimer;
 use crate::gpu::Gpu;
 use crate::graph::pipelines::{wgpu_format, CachedPipeline};
+use crate::graph::desc::RunMode;
+use crate::graph::runs::{RunGpu, RunState, RUN_BYTES};
 use crate::graph::schedule::*;
 
 /// How a frame is timed.
@@ -71,6 +73,8 @@ struct PassGpu {
     bind_groups: [Vec<(u32, wgpu::BindGroup)>; 2],
     workgroups: [u32; 3],
     params: Option<wgpu::Buffer>,
+    /// The `run` uniform, for passes that bind one.
+    run: Option<wgpu::Buffer>,
 }
 
 /// A texture of the executor with what decides whether a rebuild may keep it.
@@ -97,6 +101,11 @@ pub struct Executor {
     timer: Option<PassTimer>,
     parity: u8,
     frame: u64,
+    /// Per pass: dispatches so far (see `RunMode`).
+    runs: Vec<RunState>,
+    /// This frame's `run` records, copied into each pass's `run` uniform
+    /// before its dispatch (one submit, several values).
+    run_records: Option<wgpu::Buffer>,
     /// Textures taken over from the executor this one replaced.
     pub textures_kept: usize,
 }
@@ -206,6 +215,14 @@ impl Executor {
                 gpu.queue.write_buffer(&buffer, 0, &p.bytes);
                 buffer
             });
+            let run = sp.bindings.iter().any(|b| b.target == Target::Run).then(|| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&sp.name),
+                    size: RUN_BYTES,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            });
             let make_groups = |parity: u8| -> Result<Vec<(u32, wgpu::BindGroup)>, UserError> {
                 let mut groups = Vec::new();
                 for (g, layout) in &pipeline.layouts {
@@ -218,6 +235,10 @@ impl Executor {
                                 None => return Err(UserError::new(format!("pass `{}`: `params` has no layout", sp.name))),
                             },
                             Target::Engine(e) => engine(e.to_owned()),
+                            Target::Run => match &run {
+                                Some(r) => r.as_entire_binding(),
+                                None => return Err(UserError::new(format!("pass `{}`: `run` has no buffer", sp.name))),
+                            },
                         };
                         entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
                     }
@@ -233,13 +254,24 @@ impl Executor {
                 bind_groups,
                 workgroups: [w.div_ceil(wg[0].max(1)), h.div_ceil(wg[1].max(1)), 1],
                 params,
+                run,
             });
         }
+        let most: u64 = schedule.passes.iter().map(|p| u64::from(dispatches_at_most(p.run))).sum();
+        let run_records = passes.iter().any(|p| p.run.is_some()).then(|| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("run records"),
+                size: most.max(1) * RUN_BYTES,
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        });
         let timer = gpu.timestamps.then(|| PassTimer::new(device, &gpu.queue, passes.len()));
         // Keep the history parity of the executor replaced when the ping-pong
         // layout is the same, so kept history textures stay in step.
         let parity = previous.filter(|p| p.schedule.flips_parity == schedule.flips_parity).map_or(0, |p| p.parity);
-        Ok(Executor { schedule: schedule.clone(), size, textures, passes, timer, parity, frame: 0, textures_kept })
+        let runs = vec![RunState::default(); passes.len()];
+        Ok(Executor { schedule: schedule.clone(), size, textures, passes, timer, parity, frame: 0, runs, run_records, textures_kept })
     }
 
     /// Writes pass `pass`'s packed params (after `PassParams::set`).
@@ -249,8 +281,13 @@ impl Executor {
         }
     }
 
-    fn encode_pass(&self, enc: &mut wgpu::CommandEncoder, i: usize, timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>) {
+    /// Records dispatch `k` of pass `i`: first the copy of its `run`
+    /// record (at `record` in the records buffer), then the compute pass.
+    fn encode_pass(&self, enc: &mut wgpu::CommandEncoder, i: usize, record: u64, timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>) {
         let (p, sp) = (&self.passes[i], &self.schedule.passes[i]);
+        if let (Some(run), Some(records)) = (&p.run, &self.run_records) {
+            enc.copy_buffer_to_buffer(records, record * RUN_BYTES, run, 0, RUN_BYTES);
+        }
         let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes });
         cp.set_pipeline(&p.pipeline.pipeline);
         for (g, bg) in &p.bind_groups[usize::from(self.parity)] {
@@ -259,19 +296,52 @@ impl Executor {
         cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
     }
 
-    /// Records and submits one frame. Returns the per-pass timings that are
-    /// ready: with `Timing::WallPerPass` this frame's (each pass submitted
-    /// alone and waited for); with `Timing::Gpu` those of earlier frames
-    /// whose timestamps have arrived (possibly none), never waiting.
-    pub fn run_frame(&mut self, gpu: &Gpu, timing: Timing) -> Vec<PassTimings> {
+    /// This frame's dispatches: per pass, how many (0 for a pass that does
+    /// not run) and where its first record is; writes the records.
+    fn plan_runs(&mut self, gpu: &Gpu, epoch: u32) -> Vec<(u32, u64)> {
+        let mut records: Vec<RunGpu> = Vec::new();
+        let mut plan = Vec::with_capacity(self.passes.len());
+        for (i, sp) in self.schedule.passes.iter().enumerate() {
+            let (these, next) = self.runs[i].plan(sp.run, epoch);
+            self.runs[i] = next;
+            plan.push((these.len() as u32, records.len() as u64));
+            records.extend(these);
+        }
+        if let Some(buffer) = &self.run_records {
+            if !records.is_empty() {
+                gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(&records));
+            }
+        }
+        plan
+    }
+
+    /// Forgets how often each pass ran: `Once` and progressive passes start
+    /// over as in a new executor (a restart of the session).
+    pub fn restart_runs(&mut self) {
+        self.runs.fill(RunState::default());
+    }
+
+    /// Records and submits one frame with the scene at `epoch` (which
+    /// decides the passes that run on a scene change). Returns the per-pass
+    /// timings that are ready: with `Timing::WallPerPass` this frame's (each
+    /// pass submitted alone and waited for); with `Timing::Gpu` those of
+    /// earlier frames whose timestamps have arrived (possibly none), never
+    /// waiting. A pass that did not run is absent from its frame's timings.
+    pub fn run_frame(&mut self, gpu: &Gpu, timing: Timing, epoch: u32) -> Vec<PassTimings> {
         self.frame += 1;
+        let plan = self.plan_runs(gpu, epoch);
         let mut ready = Vec::new();
         if timing == Timing::WallPerPass {
             let mut passes = Vec::with_capacity(self.passes.len());
-            for i in 0..self.passes.len() {
+            for (i, &(count, first)) in plan.iter().enumerate() {
+                if count == 0 {
+                    continue;
+                }
                 let start = std::time::Instant::now();
                 let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(&self.schedule.passes[i].name) });
-                self.encode_pass(&mut enc, i, None);
+                for k in 0..u64::from(count) {
+                    self.encode_pass(&mut enc, i, first + k, None);
+                }
                 gpu.queue.submit([enc.finish()]);
                 gpu.wait();
                 passes.push((self.schedule.passes[i].name.clone(), start.elapsed().as_secs_f64() * 1e3));
@@ -280,13 +350,15 @@ impl Executor {
         } else {
             let timed = timing == Timing::Gpu && self.timer.as_mut().is_some_and(|t| t.begin_frame());
             let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-            for i in 0..self.passes.len() {
-                let writes = if timed { self.timer.as_ref().and_then(|t| t.writes(i)) } else { None };
-                self.encode_pass(&mut enc, i, writes);
+            for (i, &(count, first)) in plan.iter().enumerate() {
+                for k in 0..count {
+                    let writes = if timed { self.timer.as_ref().and_then(|t| t.writes(i, k == 0, k + 1 == count)) } else { None };
+                    self.encode_pass(&mut enc, i, first + u64::from(k), writes);
+                }
             }
             if timed {
                 if let Some(t) = &mut self.timer {
-                    t.resolve(&mut enc, self.frame);
+                    t.resolve(&mut enc, self.frame, plan.iter().map(|&(count, _)| count > 0).collect());
                 }
             }
             gpu.queue.submit([enc.finish()]);
@@ -316,7 +388,7 @@ impl Executor {
             .into_iter()
             .map(|s| PassTimings {
                 frame: s.frame,
-                passes: self.schedule.passes.iter().map(|p| p.name.clone()).zip(s.ms).collect(),
+                passes: self.schedule.passes.iter().zip(s.ms).filter_map(|(p, ms)| Some((p.name.clone(), ms?))).collect(),
             })
             .collect()
     }
@@ -364,6 +436,14 @@ impl Executor {
 
     pub fn pass_names(&self) -> Vec<&str> {
         self.schedule.passes.iter().map(|p| p.name.as_str()).collect()
+    }
+}
+
+/// The most dispatches a pass running `mode` makes in one frame.
+fn dispatches_at_most(mode: RunMode) -> u32 {
+    match mode {
+        RunMode::Progressive { per_frame, .. } => per_frame,
+        _ => 1,
     }
 }
 

@@ -9,6 +9,7 @@ pub mod executor;
 pub mod params;
 pub mod pipelines;
 pub mod report;
+pub mod runs;
 pub mod schedule;
 #[cfg(test)]
 mod tests;

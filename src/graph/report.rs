@@ -3,6 +3,7 @@
 use std::fmt::Write;
 
 use crate::graph::schedule::{CullReason, Schedule, TexRef};
+use crate::scene::Feature;
 
 fn mib(bytes: u64) -> f64 {
     bytes as f64 / (1024.0 * 1024.0)
@@ -29,10 +30,11 @@ pub fn text(s: &Schedule, screen: (u32, u32)) -> String {
         };
         let _ = writeln!(
             o,
-            "  {i}. {} ({}:{}){consts}\n       reads [{}]  writes [{}]",
+            "  {i}. {} ({}:{}){consts}\n       runs {}; reads [{}]  writes [{}]",
             p.name,
             p.shader,
             p.entry,
+            p.run.describe(),
             p.reads.join(", "),
             p.writes.join(", ")
         );
@@ -43,11 +45,15 @@ pub fn text(s: &Schedule, screen: (u32, u32)) -> String {
     }
     for c in &s.culled {
         let why = match &c.reason {
+            CullReason::Requires(f) if f.iter().all(|f| matches!(f, Feature::ThesisProbes | Feature::DdgiProbes)) => format!(
+                "requires {}; the graph's probes.mode is another",
+                f.iter().map(|f| format!("{f:?}")).collect::<Vec<_>>().join(", ")
+            ),
             CullReason::Requires(f) => format!(
                 "requires {}; the scene has none",
                 f.iter().map(|f| format!("{f:?}")).collect::<Vec<_>>().join(", ")
             ),
-            CullReason::Unreachable => "contributes neither to the output nor to a history resource".into(),
+            CullReason::Unreachable => "contributes neither to the output nor to a history or persistent resource".into(),
         };
         let _ = writeln!(o, "  {}: {why}", c.name);
     }
@@ -71,7 +77,7 @@ pub fn text(s: &Schedule, screen: (u32, u32)) -> String {
             o,
             "  t{i}: {:?} {w}x{h}{} <- {}",
             t.format,
-            if t.history { " history" } else { "" },
+            if t.persistent { " persistent" } else if t.history { " history" } else { "" },
             t.label
         );
     }

@@ -2,7 +2,7 @@
 //! already resolved to an index.
 
 use crate::format::TexFormat;
-use crate::graph::desc::SizeDesc;
+use crate::graph::desc::{ProbesDesc, RunMode, SizeDesc};
 use crate::scene::{Feature, SceneFeatures};
 use crate::shader::BindingKind;
 
@@ -113,6 +113,9 @@ pub enum Target {
     Engine(EngineResource),
     /// The pass's own `params` uniform (see `ScheduledPass::params`).
     Params,
+    /// The pass's `run` uniform: which iteration a dispatch is (see
+    /// `RunMode`); the executor writes it before each dispatch.
+    Run,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -135,8 +138,11 @@ pub struct ScheduledPass {
     /// `override` constants for the pipeline.
     pub constants: Vec<(String, f64)>,
     pub bindings: Vec<ResolvedBinding>,
-    /// One invocation per texel of this size (the first texture written).
+    /// One invocation per texel of this size (the graph's `dispatch`, else
+    /// the first texture written).
     pub dispatch: SizeDesc,
+    /// When it runs.
+    pub run: RunMode,
     /// Names of resource versions read and written, for printing (`lit@2`).
     pub reads: Vec<String>,
     pub writes: Vec<String>,
@@ -169,7 +175,10 @@ pub struct PhysicalTexture {
     pub format: TexFormat,
     pub size: SizeDesc,
     pub usage: TexUsage,
+    /// Survives across frames, never pooled (history or persistent).
     pub history: bool,
+    /// One texture across frames (not a history ping-pong pair).
+    pub persistent: bool,
 }
 
 /// One version of one resource and where it lives.
@@ -200,6 +209,8 @@ pub struct Schedule {
     /// Resources whose final version survives the frame (the output and
     /// CompileOptions::keep): these can be read back.
     pub kept: Vec<String>,
+    /// The graph's probe grid, after edits.
+    pub probes: Option<ProbesDesc>,
 }
 
 /// Memory figures for a schedule at a given render size.

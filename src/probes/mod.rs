@@ -12,3 +12,4 @@
 
 pub mod grid;
 pub mod mapping;
+pub use grid::ProbeGrid;

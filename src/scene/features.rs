@@ -15,6 +15,11 @@ pub enum Feature {
     Specular,
     Emissive,
     Motion,
+    /// The graph's `probes.mode` is `Thesis` (a property of the graph, not
+    /// of the scene: compile decides it, `SceneFeatures::has` says no).
+    ThesisProbes,
+    /// The graph's `probes.mode` is `Ddgi`.
+    DdgiProbes,
 }
 
 impl Feature {
@@ -66,6 +71,7 @@ impl SceneFeatures {
             Feature::Specular => self.specular,
             Feature::Emissive => self.emissive,
             Feature::Motion => self.motion,
+            Feature::ThesisProbes | Feature::DdgiProbes => false,
         }
     }
 

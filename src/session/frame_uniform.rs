@@ -78,4 +78,11 @@ pub struct FrameGpu {
     /// The scene's ray-offset scale (`bvh::offset::offset_scale`).
     pub offset_scale: f32,
     pub _pad: [f32; 2],
+    /// The graph's probe grid (see `probes::ProbeGrid`), relative to the
+    /// scene's origin like every position: probe (0, 0, 0), the spacing,
+    /// probes per axis (0 for a graph without probes).
+    pub probe_origin: [f32; 3],
+    pub probe_n: u32,
+    pub probe_spacing: [f32; 3],
+    pub _pad2: u32,
 }

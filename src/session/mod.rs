@@ -203,6 +203,7 @@ impl Session {
             }
             None => camera,
         };
+        let grid = self.scene.probe_grid(self.executor.schedule.probes);
         let data = &self.scene.buffers.data;
         let frame = FrameGpu {
             camera,
@@ -223,9 +224,13 @@ impl Session {
             exact_one: 1.0,
             offset_scale: self.scene.offset_scale,
             _pad: [0.0; 2],
+            probe_origin: grid.map_or([0.0; 3], |g| g.origin.to_array()),
+            probe_n: grid.map_or(0, |g| g.counts.x),
+            probe_spacing: grid.map_or([0.0; 3], |g| g.spacing.to_array()),
+            _pad2: 0,
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        let timings = self.executor.run_frame(&self.gpu, self.timing);
+        let timings = self.executor.run_frame(&self.gpu, self.timing, epoch);
         st.last = Some((world_camera, epoch));
         st.frame_index = st.frame_index.wrapping_add(1);
         st.accum_count = st.accum_count.saturating_add(1);
@@ -249,6 +254,7 @@ impl Session {
     /// with the new settings.
     pub fn restart(&mut self) {
         self.state = FrameState::default();
+        self.executor.restart_runs();
     }
 
     /// Frames accumulated since the last reset.

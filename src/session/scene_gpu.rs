@@ -35,6 +35,9 @@ pub struct SceneGpu {
     /// What the GPU's positions are relative to (world, f64): a multiple of
     /// `offset_scale` in each component.
     pub origin: DVec3,
+    /// The world bounds as loaded (what a probe grid spans: it stays put
+    /// while lights and objects move).
+    pub bounds: Option<(DVec3, DVec3)>,
     /// A pinned origin is never moved by `update` (set with `pin_origin`:
     /// tests that trace in world coordinates).
     pinned: bool,
@@ -52,7 +55,8 @@ impl SceneGpu {
     /// a driver that refuses the buffers is a clear error.
     pub fn new(gpu: &Gpu, scene: Scene) -> Result<SceneGpu, UserError> {
         let mut bvh = SceneBvh::default();
-        let extent = scene.bounds().map_or(0.0, |(lo, hi)| (hi - lo).max_element());
+        let bounds = scene.bounds();
+        let extent = bounds.map_or(0.0, |(lo, hi)| (hi - lo).max_element());
         let offset_scale = crate::bvh::offset::offset_scale(extent as f32);
         let origin = rebased_origin(DVec3::ZERO, scene.camera.position, offset_scale).unwrap_or(DVec3::ZERO);
         let mut data = scene.pack_at(origin);
@@ -65,7 +69,14 @@ impl SceneGpu {
         if let Some(e) = refused.into_iter().flatten().next() {
             return Err(UserError::new(format!("{} refused the scene's buffers: {e}; use fewer or smaller meshes", gpu.describe())));
         }
-        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale, origin, pinned: false })
+        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale, origin, bounds, pinned: false })
+    }
+
+    /// The graph's probe grid over the bounds as loaded, relative to the
+    /// current origin (f64 until the subtraction, like every position).
+    pub fn probe_grid(&self, probes: Option<crate::graph::desc::ProbesDesc>) -> Option<crate::probes::ProbeGrid> {
+        let (p, (lo, hi)) = (probes?, self.bounds?);
+        crate::probes::ProbeGrid::over_bounds((lo - self.origin).as_vec3(), (hi - self.origin).as_vec3(), p.level, p.padding)
     }
 
     /// Moves the scene to time `t` and, unless the origin is pinned,

@@ -3,15 +3,22 @@
 
 use super::versions::{is_history, Versions};
 use super::PassPlan;
-use crate::graph::desc::FrameGraph;
+use crate::graph::desc::{FrameGraph, ProbeMode};
 use crate::graph::schedule::{CullReason, CulledPass};
-use crate::scene::SceneFeatures;
+use crate::scene::{Feature, SceneFeatures};
 
-pub(super) fn cull_by_requires<'a>(plans: Vec<PassPlan<'a>>, features: &SceneFeatures) -> (Vec<PassPlan<'a>>, Vec<CulledPass>) {
+/// `probes` is the graph's probe mode, which decides `ThesisProbes` and
+/// `DdgiProbes`; the scene decides the other features.
+pub(super) fn cull_by_requires<'a>(plans: Vec<PassPlan<'a>>, features: &SceneFeatures, probes: Option<ProbeMode>) -> (Vec<PassPlan<'a>>, Vec<CulledPass>) {
+    let has = |f: Feature| match f {
+        Feature::ThesisProbes => probes == Some(ProbeMode::Thesis),
+        Feature::DdgiProbes => probes == Some(ProbeMode::Ddgi),
+        other => features.has(other),
+    };
     let mut kept = Vec::new();
     let mut culled = Vec::new();
     for p in plans {
-        let missing: Vec<_> = p.desc.requires.iter().copied().filter(|f| !features.has(*f)).collect();
+        let missing: Vec<_> = p.desc.requires.iter().copied().filter(|f| !has(*f)).collect();
         if missing.is_empty() {
             kept.push(p);
         } else {
@@ -69,6 +76,21 @@ pub(super) fn cull_unreachable<'a>(
         }
         v.readers = v.readers.iter().filter(|&&r| needed[r]).map(|&r| new_index[r]).collect();
         vs.push(v);
+    }
+    // A history or persistent resource no kept pass touches gets no texture
+    // (a probe volume of the mode the graph does not use).
+    let untouched: Vec<String> = vs
+        .list
+        .iter()
+        .filter(|v| v.number == 0 && v.readers.is_empty())
+        .filter(|v| !vs.list.iter().any(|o| o.resource == v.resource && o.number > 0))
+        .map(|v| v.resource.clone())
+        .collect();
+    if !untouched.is_empty() {
+        let old = std::mem::take(vs);
+        for v in old.list.into_iter().filter(|v| !untouched.contains(&v.resource)) {
+            vs.push(v);
+        }
     }
     (kept, culled)
 }

@@ -80,6 +80,7 @@ pub(super) fn emit_schedule(
                 }
                 Bound::Engine(e) => Target::Engine(*e),
                 Bound::Params => Target::Params,
+                Bound::Run => Target::Run,
             };
             bindings.push(ResolvedBinding { name: b.name.clone(), group: b.group, binding: b.binding, kind: b.kind.clone(), target });
         }
@@ -91,7 +92,8 @@ pub(super) fn emit_schedule(
             params: plan.params.clone(),
             constants: plan.constants.clone(),
             bindings,
-            dispatch: dispatch.unwrap_or_default(),
+            dispatch: plan.desc.dispatch.or(dispatch).unwrap_or_default(),
+            run: plan.desc.run,
             reads,
             writes,
         });
@@ -129,6 +131,7 @@ pub(super) fn emit_schedule(
         output_format,
         flips_parity,
         kept: Vec::new(),
+        probes: desc.probes,
     }
 }
 

@@ -22,7 +22,7 @@ mod versions;
 use std::collections::BTreeMap;
 
 use crate::error::Location;
-use crate::graph::desc::{FrameGraph, PassDesc};
+use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, SizeDesc};
 use crate::graph::edit::GraphEdits;
 use crate::graph::params::PassParams;
 use crate::graph::schedule::*;
@@ -56,6 +56,8 @@ pub enum ErrorKind {
     MissingConstant,
     UnknownConstant,
     BadEdit,
+    BadRun,
+    BadSize,
 }
 
 /// A graph compile error. `pass` and `shader_location` say where; the caller
@@ -114,6 +116,7 @@ enum Bound {
     Write { resource: String, in_place: bool },
     Engine(EngineResource),
     Params,
+    Run,
 }
 
 #[derive(Debug, Clone)]
@@ -163,6 +166,14 @@ pub fn compile(
         }
         None => desc,
     };
+    let probed;
+    let desc = match resolve_probe_sizes(desc)? {
+        Some(resolved) => {
+            probed = resolved;
+            &probed
+        }
+        None => desc,
+    };
     let plans = validate(desc, shaders)?;
     let output = options.output.clone().unwrap_or_else(|| desc.output.clone());
     if !desc.resources.contains_key(&output) {
@@ -173,7 +184,7 @@ pub fn compile(
         ));
     }
     let writers = writers_of(&plans);
-    let (plans, mut culled) = cull_by_requires(plans, features);
+    let (plans, mut culled) = cull_by_requires(plans, features, desc.probes.map(|p| p.mode));
     let mut versions = assign_versions(desc, &plans, &writers, &culled)?;
     check_output_written(&writers, &versions, &culled, &output)?;
     let (plans, unreachable) = cull_unreachable(desc, plans, &mut versions, &output);
@@ -188,6 +199,32 @@ pub fn compile(
     let mut schedule = emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output);
     schedule.kept = kept.iter().map(|r| r.to_string()).collect();
     Ok(schedule)
+}
+
+/// `ProbeTiles` sizes (resources and dispatches) as `Fixed` for the graph's
+/// probe grid; None when the graph has none to resolve.
+fn resolve_probe_sizes(desc: &FrameGraph) -> Result<Option<FrameGraph>, CompileError> {
+    let tiled = |s: &SizeDesc| matches!(s, SizeDesc::ProbeTiles(..));
+    let any = desc.resources.values().any(|ResourceDesc::Texture(t)| tiled(&t.size)) || desc.passes.iter().any(|p| p.dispatch.as_ref().is_some_and(tiled));
+    if !any {
+        return Ok(None);
+    }
+    let mut g = desc.clone();
+    let check = |s: SizeDesc, pass: Option<&str>| -> Result<SizeDesc, CompileError> {
+        if let SizeDesc::ProbeTiles(w, h) = s {
+            desc.check_tiles(w, h).map_err(|m| err(ErrorKind::BadSize, pass, m))?;
+        }
+        Ok(s.for_probes(desc.probes.map_or(1, |p| p.per_axis())))
+    };
+    for ResourceDesc::Texture(t) in g.resources.values_mut() {
+        t.size = check(t.size, None)?;
+    }
+    for p in &mut g.passes {
+        if let Some(d) = p.dispatch {
+            p.dispatch = Some(check(d, Some(&p.name))?);
+        }
+    }
+    Ok(Some(g))
 }
 
 fn names<'a>(it: impl Iterator<Item = &'a String>) -> String {

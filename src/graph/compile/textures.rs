@@ -41,6 +41,7 @@ pub(super) fn assign_textures(desc: &FrameGraph, vs: &Versions, groups: &[Group]
                     size,
                     usage: TexUsage::default(),
                     history: group.history_slot.is_some(),
+                    persistent: super::versions::is_persistent(desc, &group.resource),
                 });
                 busy_until.push(0);
                 textures.len() - 1

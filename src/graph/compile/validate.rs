@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{err, err_at, names, Bound, CompileError, ErrorKind, PassPlan};
-use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, TextureDesc};
+use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, RunMode, TextureDesc};
 use crate::graph::params::{ParamError, PassParams};
 use crate::graph::schedule::{EngineKind, EngineResource};
 use crate::format::TexFormat;
@@ -48,6 +48,7 @@ pub(super) fn validate<'a>(
             bindings.push((b, bind_one(desc, name, b, target)?));
         }
         check_pass_writes(name, &bindings)?;
+        check_run(desc, pass, &bindings)?;
         let params = pack_params(pass, shader)?;
         let constants = check_constants(pass, shader)?;
         plans.push(PassPlan { desc: pass, entry, bindings, params, constants });
@@ -83,6 +84,12 @@ fn bind_one(desc: &FrameGraph, pass: &str, b: &BindingInfo, target: &str) -> Res
         return match b.kind {
             BindingKind::Uniform { .. } => Ok(Bound::Params),
             _ => Err(err_at(ErrorKind::WrongAccess, pass, b, "`params` must be a var<uniform> struct")),
+        };
+    }
+    if b.name == "run" && target == "run" {
+        return match b.kind {
+            BindingKind::Uniform { .. } => Ok(Bound::Run),
+            _ => Err(err_at(ErrorKind::WrongAccess, pass, b, "`run` must be a var<uniform> Run (shared/run.wgsl)")),
         };
     }
     if let Some(e) = EngineResource::from_name(target) {
@@ -178,6 +185,41 @@ fn check_pass_writes(pass: &str, bindings: &[(&BindingInfo, Bound)]) -> Result<(
                     pass,
                     other,
                     format!("`{}` reads `{resource}` while `{}` modifies it in place; read it through the read_write binding", other.name, b.name),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Most dispatches of one pass in a frame.
+pub const MAX_PER_FRAME: u32 = 64;
+
+/// A pass that does not run every frame writes only persistent resources
+/// (anything else would hold another frame's content, or a pooled
+/// texture's); a progressive pass runs 1..=64 iterations a frame.
+fn check_run(desc: &FrameGraph, pass: &PassDesc, bindings: &[(&BindingInfo, Bound)]) -> Result<(), CompileError> {
+    let name = Some(pass.name.as_str());
+    if let RunMode::Progressive { per_frame, until } = pass.run {
+        if !(1..=MAX_PER_FRAME).contains(&per_frame) {
+            return Err(err(ErrorKind::BadRun, name, format!("`Progressive(per_frame: {per_frame})`: between 1 and {MAX_PER_FRAME} iterations a frame")));
+        }
+        if until == Some(0) {
+            return Err(err(ErrorKind::BadRun, name, "`Progressive(until: 0)` never runs; give at least 1 iteration, or leave `until` out to run forever"));
+        }
+    }
+    if pass.run == RunMode::EveryFrame {
+        return Ok(());
+    }
+    for (b, bound) in bindings {
+        if let Bound::Write { resource, .. } = bound {
+            let persistent = matches!(desc.resources.get(resource), Some(ResourceDesc::Texture(TextureDesc { persistent: true, .. })));
+            if !persistent {
+                return Err(err_at(
+                    ErrorKind::BadRun,
+                    &pass.name,
+                    b,
+                    format!("runs {}, but writes `{resource}`, which is not persistent: a pass that skips frames may write only `persistent: true` resources", pass.run.describe()),
                 ));
             }
         }

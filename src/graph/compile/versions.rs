@@ -40,8 +40,15 @@ impl Versions {
     }
 }
 
+/// Whether `r` survives across frames: a history resource (two textures)
+/// or a persistent one (one). Either has a version 0 (what the last frame
+/// left) and is a culling root.
 pub(super) fn is_history(desc: &FrameGraph, r: &str) -> bool {
-    matches!(desc.resources.get(r), Some(ResourceDesc::Texture(TextureDesc { history: true, .. })))
+    matches!(desc.resources.get(r), Some(ResourceDesc::Texture(TextureDesc { history: true, .. } | TextureDesc { persistent: true, .. })))
+}
+
+pub(super) fn is_persistent(desc: &FrameGraph, r: &str) -> bool {
+    matches!(desc.resources.get(r), Some(ResourceDesc::Texture(TextureDesc { persistent: true, .. })))
 }
 
 pub(super) fn assign_versions(desc: &FrameGraph, plans: &[PassPlan], writers: &Writers, culled: &[CulledPass]) -> Result<Versions, CompileError> {
@@ -164,6 +171,8 @@ pub(super) fn assign_groups(desc: &FrameGraph, vs: &mut Versions) -> Vec<Group> 
         let prev_same = prev.filter(|&p| vs.list[p].resource == resource);
         let group = if is_history(desc, &resource) {
             let slot = match prev_same {
+                // A persistent resource is one texture: every version in slot 0.
+                _ if is_persistent(desc, &resource) => 0,
                 None => 0,
                 Some(p) => {
                     let s = groups[vs.list[p].group].history_slot.unwrap_or(0);

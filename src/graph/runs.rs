@@ -1,0 +1,110 @@
+//! Which passes run in a frame and how many times (`RunMode`), and the
+//! `run` uniform each dispatch sees. Pure: the executor asks `plan` for a
+//! frame's dispatches and writes the records it returns.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::graph::desc::RunMode;
+
+/// `struct Run` in `shaders/shared/run.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct RunGpu {
+    /// Dispatches of this pass since the graph was built or restarted.
+    pub iteration: u32,
+    /// Dispatches since the scene last changed (0: the first after a
+    /// change, where a progressive pass starts over).
+    pub since_change: u32,
+    /// This dispatch's index within the frame.
+    pub index: u32,
+    /// Dispatches of this pass this frame.
+    pub count: u32,
+}
+
+/// Bytes of one `RunGpu` record.
+pub const RUN_BYTES: u64 = std::mem::size_of::<RunGpu>() as u64;
+
+/// One pass's counters across frames.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RunState {
+    pub iteration: u32,
+    pub since_change: u32,
+    /// The scene epoch the pass last ran with; None before its first run.
+    pub last_epoch: Option<u32>,
+}
+
+impl RunState {
+    /// This frame's dispatches of a pass running `mode` with the scene at
+    /// `epoch`, and the state after them.
+    pub fn plan(self, mode: RunMode, epoch: u32) -> (Vec<RunGpu>, RunState) {
+        let changed = self.last_epoch != Some(epoch);
+        let since = if changed { 0 } else { self.since_change };
+        let count = match mode {
+            RunMode::EveryFrame => 1,
+            RunMode::Once => u32::from(self.last_epoch.is_none()),
+            RunMode::OnSceneChange => u32::from(changed),
+            RunMode::Progressive { per_frame, until: None } => per_frame,
+            RunMode::Progressive { per_frame, until: Some(u) } => per_frame.min(u.saturating_sub(since)),
+        };
+        if count == 0 {
+            return (Vec::new(), self);
+        }
+        let records = (0..count)
+            .map(|k| RunGpu { iteration: self.iteration.wrapping_add(k), since_change: since.saturating_add(k), index: k, count })
+            .collect();
+        let next = RunState { iteration: self.iteration.wrapping_add(count), since_change: since.saturating_add(count), last_epoch: Some(epoch) };
+        (records, next)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(mode: RunMode, epochs: &[u32]) -> Vec<Vec<(u32, u32)>> {
+        let mut st = RunState::default();
+        epochs
+            .iter()
+            .map(|&e| {
+                let (records, next) = st.plan(mode, e);
+                st = next;
+                records.iter().map(|r| (r.iteration, r.since_change)).collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_frame_runs_once_a_frame() {
+        assert_eq!(run(RunMode::EveryFrame, &[0, 0, 1]), vec![vec![(0, 0)], vec![(1, 1)], vec![(2, 0)]]);
+    }
+
+    #[test]
+    fn once_runs_in_the_first_frame_only() {
+        assert_eq!(run(RunMode::Once, &[0, 0, 5, 6]), vec![vec![(0, 0)], vec![], vec![], vec![]]);
+    }
+
+    #[test]
+    fn on_scene_change_runs_when_the_epoch_moves() {
+        let got = run(RunMode::OnSceneChange, &[0, 0, 1, 1, 1, 2]);
+        assert_eq!(got.iter().map(Vec::len).collect::<Vec<_>>(), vec![1, 0, 1, 0, 0, 1]);
+        assert_eq!(got[2], vec![(1, 0)]);
+    }
+
+    #[test]
+    fn progressive_counts_to_until_and_restarts_on_change() {
+        let mode = RunMode::Progressive { per_frame: 3, until: Some(7) };
+        let got = run(mode, &[0, 0, 0, 0, 1, 1]);
+        let since: Vec<Vec<u32>> = got.iter().map(|f| f.iter().map(|r| r.1).collect()).collect();
+        assert_eq!(since, vec![vec![0, 1, 2], vec![3, 4, 5], vec![6], vec![], vec![0, 1, 2], vec![3, 4, 5]]);
+        // The iteration keeps counting across the change.
+        assert_eq!(got[4][0].0, 7);
+        let forever = run(RunMode::Progressive { per_frame: 2, until: None }, &[0, 0, 0]);
+        assert_eq!(forever.iter().map(Vec::len).collect::<Vec<_>>(), vec![2, 2, 2]);
+    }
+
+    #[test]
+    fn records_number_the_dispatches_of_a_frame() {
+        let (records, _) = RunState::default().plan(RunMode::Progressive { per_frame: 4, until: None }, 0);
+        assert_eq!(records.iter().map(|r| (r.index, r.count)).collect::<Vec<_>>(), vec![(0, 4), (1, 4), (2, 4), (3, 4)]);
+    }
+}
