@@ -4,8 +4,7 @@
 // estimation on the diffuse lobe, combined with BSDF sampling by the power
 // heuristic, so the image converges to the same answer as plain path
 // tracing. Russian roulette after `rr_depth` bounces.
-#import lights
-#import rng
+#import path
 
 struct Params {
     spp: u32, // ui: 1..64 "samples per pixel"
@@ -27,108 +26,7 @@ struct Params {
 // `radiance` again, for the later dispatches of a split frame (main_more).
 @group(0) @binding(4) var radiance_acc: texture_storage_2d<rgba32float, read_write>;
 
-var<private> primary_pos: vec4f;
-var<private> primary_normal: vec4f;
-
 const SALT: u32 = 0x70617468u;
-
-// a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
-// the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
-// overflowed to inf / inf = NaN, and the path sample was dropped.
-fn power_heuristic(a: f32, b: f32) -> f32 {
-    if !(a > 0.0) {
-        return 0.0;
-    }
-    let r = b / a;
-    return 1.0 / (1.0 + r * r);
-}
-
-fn trace_path(ro_in: vec3f, rd_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
-    var ro = ro_in;
-    var rd = rd_in;
-    var throughput = vec3f(1.0);
-    var result = vec3f(0.0);
-    // The BSDF pdf of the last bounce if it was diffuse (then a light hit
-    // is weighted against NEE), or a negative value (camera / specular).
-    var bsdf_pdf = -1.0;
-    var prev_p = ro;
-    for (var depth = 0u; depth < params.max_depth; depth++) {
-        let hit = trace_closest(ro, rd, 3.0e38);
-        if depth == 0u {
-            primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
-            let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-            primary_normal = select(vec4f(facing, scene_materials[hit.material].specular), vec4f(0.0), !hit_found(hit));
-        }
-        if !hit_found(hit) {
-            result += throughput * frame.background;
-            break;
-        }
-        let m = scene_materials[hit.material];
-        let p = hit.position;
-        if is_emissive(m) {
-            var w = 1.0;
-            if hit.light >= 0 && bsdf_pdf > 0.0 {
-                w = power_heuristic(bsdf_pdf, light_pdf(scene_lights[u32(hit.light)], prev_p));
-            }
-            result += throughput * m.emission * w;
-        }
-        if hit.light >= 0 {
-            break; // lights do not reflect
-        }
-        let flip = select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-        let ng = hit.geo_normal * flip;
-        var n = hit.normal * flip;
-        if dot(n, rd) > 0.0 {
-            n = ng;
-        }
-        let o = offset_ray(p, ng);
-        if rand_f32(rng) < m.specular {
-            var dir = reflect(rd, n);
-            if m.roughness > 0.0 {
-                dir = sample_glossy(dir, n, m.roughness, rand2(rng));
-            }
-            if dot(dir, ng) <= 0.0 {
-                break;
-            }
-            throughput *= m.albedo;
-            bsdf_pdf = -1.0;
-            rd = dir;
-        } else {
-            // Next-event estimation: every light, one sample each.
-            for (var i = 0u; i < frame.n_lights; i++) {
-                let l = scene_lights[i];
-                let s = sample_light(l, o, rand2(rng));
-                let cos_n = dot(n, s.dir);
-                if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 || !light_visible(o, s) {
-                    continue;
-                }
-                var w = 1.0;
-                if s.pdf > 0.0 {
-                    w = power_heuristic(s.pdf, cos_n / PI);
-                }
-                result += throughput * m.albedo / PI * s.weight * cos_n * w;
-            }
-            let dir = sample_cosine(n, rand2(rng));
-            let cos_d = dot(n, dir);
-            if dot(dir, ng) <= 0.0 || cos_d <= 0.0 {
-                break;
-            }
-            throughput *= m.albedo;
-            bsdf_pdf = cos_d / PI;
-            rd = dir;
-        }
-        prev_p = o;
-        ro = o;
-        if depth + 1u >= params.rr_depth {
-            let q = min(max3(throughput), 0.95);
-            if rand_f32(rng) >= q {
-                break;
-            }
-            throughput /= q;
-        }
-    }
-    return finite_or_zero(result);
-}
 
 // The sum of this dispatch's `spp` samples of pixel `id`. Each dispatch of
 // a split frame draws its own random stream (the first one's is what an
@@ -139,7 +37,7 @@ fn sample_sum(id: vec2u) -> vec3f {
     var sum = vec3f(0.0);
     for (var s = 0u; s < spp; s++) {
         let rd = camera_dir(frame.camera, id, rand2(&rng));
-        sum += trace_path(frame.camera.origin, rd, &rng);
+        sum += trace_path(frame.camera.origin, rd, params.max_depth, params.rr_depth, true, &rng);
     }
     return sum;
 }
@@ -151,8 +49,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let sum = sample_sum(id.xy);
     textureStore(radiance, id.xy, vec4f(sum / f32(max(params.spp, 1u)), 1.0));
-    textureStore(gbuf_pos, id.xy, primary_pos);
-    textureStore(gbuf_normal, id.xy, primary_normal);
+    textureStore(gbuf_pos, id.xy, path_primary_pos);
+    textureStore(gbuf_normal, id.xy, path_primary_normal);
 }
 
 // A later dispatch of a split frame: the mean of spp_done samples already

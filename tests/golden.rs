@@ -12,6 +12,7 @@ use glint::graph::edit::GraphEdits;
 use glint::graph::{self, CompileOptions};
 use glint::image_io;
 use glint::metrics;
+use std::f32::consts::PI;
 
 const SIZE: (u32, u32) = (64, 64);
 const FRAMES: u32 = 4;
@@ -44,6 +45,10 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
                 let v = p[3] / FRAMES as f32;
                 *p = [v, v, v, 1.0];
             }
+            // Irradiance as the radiance of a white diffuse surface.
+            "thesis_irradiance" => *p = [p[0] / PI, p[1] / PI, p[2] / PI, 1.0],
+            // The bake's radiance, and its path count over 256 in alpha.
+            "thesis_radiance" => p[3] = 1.0,
             // Edge strengths and the mask: one channel shown grey.
             "edges" | "edges_h" | "edges_blur" | "mask" => *p = [p[0], p[0], p[0], 1.0],
             // -1 not specular (black), 0 shaded (grey), 1 reused (white).
@@ -145,8 +150,18 @@ fn golden_images_of_every_pass() {
         ("hybrid.ron", "moving-lights.ron"),
         ("hybrid-point.ron", "cornell.ron"),
         ("hybrid-point.ron", "moving-lights.ron"),
+        ("irradiance.ron", "cornell.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
+    }
+    // Debug views: passes that run only when their resource is the output.
+    for (graph, scene, view) in [("irradiance.ron", "cornell.ron", "probe_view")] {
+        let Some(gpu) = gpu() else { break };
+        let options = CompileOptions { output: Some(view.to_string()), ..Default::default() };
+        let img = render_with(gpu, load_scene(scene), &repo().join("passes").join(graph), SIZE, FRAMES, &options);
+        let name = format!("{}-{}-{view}", graph.trim_end_matches(".ron"), scene.trim_end_matches(".ron"));
+        check(&name, &visualize(view, img), &mut failures);
+        count += 1;
     }
     if gpu().is_some() {
         assert!(count >= 89, "expected a golden per pass output, got {count}");

@@ -134,6 +134,9 @@ pub enum RunMode {
     /// In the first frame and in every frame whose scene changed (a light
     /// or object moved) since the pass last ran.
     OnSceneChange,
+    /// In the first frame and in every frame where a pass that writes one
+    /// of its inputs ran before it (a bake's second step after its first).
+    OnInputChange,
     /// `per_frame` dispatches a frame, each one iteration (the `run`
     /// uniform counts them), until `until` iterations since the scene last
     /// changed (forever without `until`); a scene change starts the count
@@ -152,6 +155,7 @@ impl RunMode {
             RunMode::EveryFrame => "every frame".into(),
             RunMode::Once => "once, after the graph is built".into(),
             RunMode::OnSceneChange => "once, then whenever the scene changes".into(),
+            RunMode::OnInputChange => "once, then whenever a pass writing its input ran".into(),
             RunMode::Progressive { per_frame, until: Some(u) } => {
                 format!("{per_frame} iterations a frame until {u} since the scene last changed")
             }

@@ -302,7 +302,8 @@ impl Executor {
         let mut records: Vec<RunGpu> = Vec::new();
         let mut plan = Vec::with_capacity(self.passes.len());
         for (i, sp) in self.schedule.passes.iter().enumerate() {
-            let (these, next) = self.runs[i].plan(sp.run, epoch);
+            let inputs_ran = sp.inputs_from.iter().any(|&p| p < i && plan.get(p).is_some_and(|&(n, _): &(u32, u64)| n > 0));
+            let (these, next) = self.runs[i].plan(sp.run, epoch, inputs_ran);
             self.runs[i] = next;
             plan.push((these.len() as u32, records.len() as u64));
             records.extend(these);
@@ -313,6 +314,15 @@ impl Executor {
             }
         }
         plan
+    }
+
+    /// Whether a pass that does not run every frame will run in the next
+    /// frame with the scene at `epoch`: what it writes (a probe volume)
+    /// changes, so images accumulated over earlier frames are stale.
+    pub fn updates_persistent(&self, epoch: u32) -> bool {
+        self.schedule.passes.iter().zip(&self.runs).any(|(sp, st)| {
+            sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !st.plan(sp.run, epoch, false).0.is_empty()
+        })
     }
 
     /// Forgets how often each pass ran: `Once` and progressive passes start

@@ -35,14 +35,16 @@ pub struct RunState {
 
 impl RunState {
     /// This frame's dispatches of a pass running `mode` with the scene at
-    /// `epoch`, and the state after them.
-    pub fn plan(self, mode: RunMode, epoch: u32) -> (Vec<RunGpu>, RunState) {
+    /// `epoch`, and the state after them; `inputs_ran`: a pass writing one
+    /// of its inputs ran earlier this frame.
+    pub fn plan(self, mode: RunMode, epoch: u32, inputs_ran: bool) -> (Vec<RunGpu>, RunState) {
         let changed = self.last_epoch != Some(epoch);
         let since = if changed { 0 } else { self.since_change };
         let count = match mode {
             RunMode::EveryFrame => 1,
             RunMode::Once => u32::from(self.last_epoch.is_none()),
             RunMode::OnSceneChange => u32::from(changed),
+            RunMode::OnInputChange => u32::from(self.last_epoch.is_none() || inputs_ran),
             RunMode::Progressive { per_frame, until: None } => per_frame,
             RunMode::Progressive { per_frame, until: Some(u) } => per_frame.min(u.saturating_sub(since)),
         };
@@ -66,7 +68,7 @@ mod tests {
         epochs
             .iter()
             .map(|&e| {
-                let (records, next) = st.plan(mode, e);
+                let (records, next) = st.plan(mode, e, false);
                 st = next;
                 records.iter().map(|r| (r.iteration, r.since_change)).collect()
             })
@@ -91,6 +93,18 @@ mod tests {
     }
 
     #[test]
+    fn on_input_change_runs_after_its_inputs_changed() {
+        let mut st = RunState::default();
+        let mut counts = Vec::new();
+        for inputs_ran in [false, false, true, false, true] {
+            let (records, next) = st.plan(RunMode::OnInputChange, 0, inputs_ran);
+            st = next;
+            counts.push(records.len());
+        }
+        assert_eq!(counts, vec![1, 0, 1, 0, 1]);
+    }
+
+    #[test]
     fn progressive_counts_to_until_and_restarts_on_change() {
         let mode = RunMode::Progressive { per_frame: 3, until: Some(7) };
         let got = run(mode, &[0, 0, 0, 0, 1, 1]);
@@ -104,7 +118,7 @@ mod tests {
 
     #[test]
     fn records_number_the_dispatches_of_a_frame() {
-        let (records, _) = RunState::default().plan(RunMode::Progressive { per_frame: 4, until: None }, 0);
+        let (records, _) = RunState::default().plan(RunMode::Progressive { per_frame: 4, until: None }, 0, false);
         assert_eq!(records.iter().map(|r| (r.index, r.count)).collect::<Vec<_>>(), vec![(0, 4), (1, 4), (2, 4), (3, 4)]);
     }
 }

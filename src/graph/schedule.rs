@@ -143,6 +143,9 @@ pub struct ScheduledPass {
     pub dispatch: SizeDesc,
     /// When it runs.
     pub run: RunMode,
+    /// Schedule indices of the earlier passes whose writes it reads this
+    /// frame (for `RunMode::OnInputChange`).
+    pub inputs_from: Vec<usize>,
     /// Names of resource versions read and written, for printing (`lit@2`).
     pub reads: Vec<String>,
     pub writes: Vec<String>,

@@ -84,6 +84,16 @@ pub(super) fn emit_schedule(
             };
             bindings.push(ResolvedBinding { name: b.name.clone(), group: b.group, binding: b.binding, kind: b.kind.clone(), target });
         }
+        let mut inputs_from: Vec<usize> = vs
+            .list
+            .iter()
+            .filter(|v| v.readers.contains(&pi))
+            .filter_map(|v| v.producer)
+            .filter(|&p| p != pi)
+            .map(|p| order.iter().position(|&o| o == p).expect("producers are scheduled"))
+            .collect();
+        inputs_from.sort_unstable();
+        inputs_from.dedup();
         passes.push(ScheduledPass {
             name: plan.desc.name.clone(),
             shader: plan.desc.shader.clone(),
@@ -94,6 +104,7 @@ pub(super) fn emit_schedule(
             bindings,
             dispatch: plan.desc.dispatch.or(dispatch).unwrap_or_default(),
             run: plan.desc.run,
+            inputs_from,
             reads,
             writes,
         });

@@ -49,7 +49,15 @@ pub(super) fn validate<'a>(
         }
         check_pass_writes(name, &bindings)?;
         check_run(desc, pass, &bindings)?;
-        let params = pack_params(pass, shader)?;
+        // An entry point that does not use `params` (another entry of the
+        // shader may) takes none.
+        let params = if shader.params.is_none() || entry.bindings.iter().any(|b| b.name == "params") {
+            pack_params(pass, shader)?
+        } else if let Some(k) = pass.params.keys().next() {
+            return Err(err(ErrorKind::UnknownParam, Some(name), format!("param `{k}` given, but entry point `{}` of {} uses no `params`", entry.name, shader.name)));
+        } else {
+            None
+        };
         let constants = check_constants(pass, shader)?;
         plans.push(PassPlan { desc: pass, entry, bindings, params, constants });
     }

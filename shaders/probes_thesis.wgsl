@@ -1,0 +1,90 @@
+// The thesis's irradiance volume (chapter 3), baked on the GPU. Each probe
+// keeps two S x S hemisphere maps (Shirley-Chiu concentric, equal area) in
+// a tile of 2S x S texels of a `ProbeTiles(2S, S)` atlas.
+//   `radiance` (progressive): one path a dispatch per bucket, from the
+//   probe in a random direction within the bucket; the running mean of
+//   those paths is the bucket's radiance.
+//   `integrate` (when the radiance changed): each bucket's irradiance, the
+//   quadrature over every bucket of its radiance times the cosine to the
+//   bucket's centre direction (averaged over points within the bucket),
+//   each bucket 2 pi / S^2 of solid angle. The
+//   thesis read the samples back to solve this on the CPU; here it stays
+//   on the GPU.
+#import path
+#import probes
+#import run
+
+struct Params {
+    bounces: u32, // ui: 1..16 limit "bounces per path"
+    rr_depth: u32, // ui: 0..16 "roulette from bounce"
+    // 1: radiance includes lights seen straight from the probe (chapter 3:
+    // the volume is all the light); 0: only light from surfaces (indirect,
+    // for a graph that shades direct light itself).
+    emitters: u32, // ui: 0..1 "lights seen from the probe"
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var thesis_radiance: texture_storage_2d<rgba32float, read_write>;
+
+const SALT: u32 = 0x74686573u;
+
+// Samples per axis: the height of a probe's tile.
+fn spa(dims: vec2u) -> u32 {
+    return dims.y / max(frame.probe_n, 1u);
+}
+
+@compute @workgroup_size(8, 8)
+fn radiance(@builtin(global_invocation_id) id: vec3u) {
+    let dims = textureDimensions(thesis_radiance);
+    let s = spa(dims);
+    if frame.probe_n < 2u || s == 0u || any(id.xy >= dims) {
+        return;
+    }
+    let tile = id.xy / vec2u(2u * s, s);
+    let probe = tile.x + tile.y * frame.probe_n * frame.probe_n;
+    let origin = probe_position(probe_coords(probe));
+    var rng = rng_for(id.xy, run.iteration, SALT, frame.seed);
+    let dir = hemisphere_texel_dir(id.xy % vec2u(2u * s, s), s, rand2(&rng));
+    let l = trace_path(origin, dir, params.bounces, params.rr_depth, params.emitters != 0u, &rng);
+    let before = textureLoad(thesis_radiance, id.xy);
+    let n = f32(run.since_change) + 1.0;
+    var mean = before.rgb + (l - before.rgb) / n;
+    if run.since_change == 0u {
+        mean = l;
+    }
+    textureStore(thesis_radiance, id.xy, vec4f(mean, n));
+}
+
+@group(0) @binding(2) var radiance_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var thesis_irradiance: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(8, 8)
+fn integrate(@builtin(global_invocation_id) id: vec3u) {
+    let dims = textureDimensions(thesis_irradiance);
+    let s = spa(dims);
+    if frame.probe_n < 2u || s == 0u || any(id.xy >= dims) {
+        return;
+    }
+    let size = vec2u(2u * s, s);
+    let corner = (id.xy / size) * size;
+    let normal = hemisphere_texel_dir(id.xy % size, s, vec2f(0.5));
+    // Each bucket's cosine weight from k x k points within it: the bucket
+    // centre alone (the midpoint rule) is 7.8% off at S = 5 and 1.5% at
+    // S = 8; 16 points or more across a map keep it under 0.4%.
+    let k = clamp((16u + s - 1u) / s, 1u, 4u);
+    var sum = vec3f(0.0);
+    for (var y = 0u; y < s; y++) {
+        for (var x = 0u; x < 2u * s; x++) {
+            var w = 0.0;
+            for (var j = 0u; j < k * k; j++) {
+                let u = (vec2f(f32(j % k), f32(j / k)) + 0.5) / f32(k);
+                w += max(dot(hemisphere_texel_dir(vec2u(x, y), s, u), normal), 0.0);
+            }
+            if w > 0.0 {
+                sum += textureLoad(radiance_in, corner + vec2u(x, y)).rgb * (w / f32(k * k));
+            }
+        }
+    }
+    let solid_angle = 2.0 * PROBE_PI / f32(s * s);
+    textureStore(thesis_irradiance, id.xy, vec4f(sum * solid_angle, 1.0));
+}
