@@ -2,11 +2,14 @@
 // G-buffer, albedo / pi times the volume's irradiance for its normal, added
 // to `lit`. Entry `thesis` reads chapter 3's maps (probes_thesis.wgsl):
 // trilinear over the 8 probes of the point's cell, the normal mapped back
-// to its bucket, no filtering within a map (as the thesis did).
-// `probe_view` draws each probe as a small sphere showing the irradiance
-// its maps hold for the sphere's normal (a debug view).
+// to its bucket, no filtering within a map (as the thesis did). Entry
+// `ddgi` reads DDGI's maps (probes_ddgi.wgsl) with visibility
+// (shared/ddgi_volume.wgsl). `thesis_view` and `ddgi_view` draw each probe
+// as a small sphere showing the irradiance / pi its maps hold for the
+// sphere's normal (a debug view; DDGI's probes at their relocated places,
+// inactive ones black).
+#import ddgi_volume
 #import intersect
-#import probes
 #import sampling
 
 @group(0) @binding(0) var gbuf_pos: texture_2d<f32>;
@@ -42,22 +45,56 @@ fn thesis_at(p: vec3f, n: vec3f) -> vec3f {
     return e;
 }
 
+// The G-buffer's lit surface at a pixel: where, facing, diffuse albedo.
+struct Surface {
+    lit: bool,
+    p: vec3f,
+    n: vec3f,
+    base: vec3f,
+    before: vec4f,
+}
+
+fn surface(id: vec3u) -> Surface {
+    let before = textureLoad(lit_in, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy, 0);
+    if !is_lit_surface(ids) {
+        return Surface(false, vec3f(0.0), vec3f(0.0), vec3f(0.0), before);
+    }
+    let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
+    let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - scene_materials[ids.x].specular);
+    return Surface(true, p, n, base, before);
+}
+
+// `lit` plus the diffuse light irradiance `e` gives the surface.
+fn store_lit(id: vec3u, s: Surface, e: vec3f) {
+    textureStore(lit, id.xy, vec4f(s.before.rgb + finite_or_zero(s.base / PI * e), 1.0));
+}
+
 @compute @workgroup_size(8, 8)
 fn thesis(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let before = textureLoad(lit_in, id.xy, 0);
-    let ids = textureLoad(gbuf_id, id.xy, 0);
-    if !is_lit_surface(ids) {
-        textureStore(lit, id.xy, before);
+    let s = surface(id);
+    var e = vec3f(0.0);
+    if s.lit {
+        e = thesis_at(s.p, s.n);
+    }
+    store_lit(id, s, e);
+}
+
+@compute @workgroup_size(8, 8)
+fn ddgi(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
         return;
     }
-    let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
-    let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - scene_materials[ids.x].specular);
-    let radiance = finite_or_zero(base / PI * thesis_at(p, n));
-    textureStore(lit, id.xy, vec4f(before.rgb + radiance, 1.0));
+    let s = surface(id);
+    var e = vec3f(0.0);
+    if s.lit {
+        e = ddgi_irradiance_at(s.p, s.n, normalize(frame.camera.origin - s.p));
+    }
+    store_lit(id, s, e);
 }
 
 @group(0) @binding(7) var probe_view: texture_storage_2d<rgba32float, write>;
@@ -68,26 +105,61 @@ fn probe_radius() -> f32 {
     return 0.2 * min(sp.x, min(sp.y, sp.z));
 }
 
+// The nearest probe sphere on a pixel's ray: probe index (n^3 for none)
+// and the sphere's normal there.
+struct ProbeHit {
+    probe: u32,
+    normal: vec3f,
+}
+
+// Tests probe i's sphere at c against the ray, keeping the nearest.
+fn probe_test(id: vec3u, i: u32, c: vec3f, hit: ptr<function, ProbeHit>, best: ptr<function, f32>) {
+    let ro = frame.camera.origin;
+    let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
+    let t = ray_sphere(ro, rd, c, probe_radius(), 0.0, *best);
+    if t > 0.0 {
+        *best = t;
+        *hit = ProbeHit(i, normalize(ro + rd * t - c));
+    }
+}
+
 @compute @workgroup_size(8, 8)
 fn thesis_view(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let s = thesis_spa();
     let n = frame.probe_n;
-    let ro = frame.camera.origin;
-    let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
-    let r = probe_radius();
-    var best = 3.0e38;
+    let s = thesis_spa();
     var shown = vec3f(0.0);
     if n >= 2u && s > 0u {
+        var h = ProbeHit(n * n * n, vec3f(0.0));
+        var best = 3.0e38;
         for (var i = 0u; i < n * n * n; i++) {
-            let c = probe_position(probe_coords(i));
-            let t = ray_sphere(ro, rd, c, r, 0.0, best);
-            if t > 0.0 {
-                best = t;
-                shown = thesis_probe(i, normalize(ro + rd * t - c), s) / PI;
-            }
+            probe_test(id, i, probe_position(probe_coords(i)), &h, &best);
+        }
+        if h.probe < n * n * n {
+            shown = thesis_probe(h.probe, h.normal, s) / PI;
+        }
+    }
+    textureStore(probe_view, id.xy, vec4f(finite_or_zero(shown), 1.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn ddgi_view(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let n = frame.probe_n;
+    var shown = vec3f(0.0);
+    if n >= 2u {
+        var h = ProbeHit(n * n * n, vec3f(0.0));
+        var best = 3.0e38;
+        for (var i = 0u; i < n * n * n; i++) {
+            probe_test(id, i, probe_position(probe_coords(i)) + probe_state(i).xyz, &h, &best);
+        }
+        if h.probe < n * n * n && probe_state(h.probe).w >= 0.5 {
+            let irr_n = tile_interior(textureDimensions(ddgi_irradiance));
+            shown = irradiance_bilinear(h.probe, oct_tile_point(h.normal, irr_n), irr_n) / PI;
         }
     }
     textureStore(probe_view, id.xy, vec4f(finite_or_zero(shown), 1.0));

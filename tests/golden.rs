@@ -8,7 +8,7 @@ mod common;
 
 use common::*;
 use glint::gpu::readback::ImageF32;
-use glint::graph::edit::GraphEdits;
+use glint::graph::edit::{GraphEdits, ParamSet};
 use glint::graph::{self, CompileOptions};
 use glint::image_io;
 use glint::metrics;
@@ -49,6 +49,13 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             "thesis_irradiance" => *p = [p[0] / PI, p[1] / PI, p[2] / PI, 1.0],
             // The bake's radiance, and its path count over 256 in alpha.
             "thesis_radiance" => p[3] = 1.0,
+            "ddgi_irradiance" => *p = [p[0] / PI, p[1] / PI, p[2] / PI, 1.0],
+            // Rays: radiance (distance and direction rows shown as colour).
+            "ddgi_rays" => *p = [p[0], p[1], p[2], 1.0],
+            // Mean distance and its square over 4 (the Cornell box's scale).
+            "ddgi_distance" => *p = [p[0] / 2.0, p[1] / 4.0, 0.0, 1.0],
+            // Offset (x, y, z) from the grid point, scaled, and on/off.
+            "ddgi_state" => *p = [p[0] * 2.0 + 0.5, p[1] * 2.0 + 0.5, p[2] * 2.0 + 0.5, 1.0],
             // Edge strengths and the mask: one channel shown grey.
             "edges" | "edges_h" | "edges_blur" | "mask" => *p = [p[0], p[0], p[0], 1.0],
             // -1 not specular (black), 0 shaded (grey), 1 reused (white).
@@ -105,11 +112,17 @@ fn check(name: &str, actual: &ImageF32, failures: &mut Vec<String>) {
 /// it: a resource a later pass overwrites is rendered with the graph cut
 /// after the pass (`stop_after`).
 fn golden_graph(graph_file: &str, scene_file: &str, failures: &mut Vec<String>) -> usize {
+    golden_variant(graph_file, scene_file, "", &[], failures)
+}
+
+/// `golden_graph` with `--set` edits, the goldens named with `variant`.
+fn golden_variant(graph_file: &str, scene_file: &str, variant: &str, set: &[&str], failures: &mut Vec<String>) -> usize {
     let Some(gpu) = gpu() else { return 0 };
     let graph_path = repo().join("passes").join(graph_file);
     let features = load_scene(scene_file).features;
-    let full = graph::load_and_compile(&graph_path, &repo().join("shaders"), &features, &CompileOptions::default())
-        .unwrap_or_else(|e| panic!("{e}"));
+    let set: Vec<ParamSet> = set.iter().map(|s| s.parse().unwrap_or_else(|e| panic!("{e}"))).collect();
+    let base = CompileOptions { edits: GraphEdits { set: set.clone(), ..Default::default() }, ..Default::default() };
+    let full = graph::load_and_compile(&graph_path, &repo().join("shaders"), &features, &base).unwrap_or_else(|e| panic!("{e}"));
     let mut count = 0;
     for pass in &full.schedule.passes {
         for written in &pass.writes {
@@ -118,12 +131,12 @@ fn golden_graph(graph_file: &str, scene_file: &str, failures: &mut Vec<String>) 
             let stop_after = (last_writer.map(|p| &p.name) != Some(&pass.name)).then(|| pass.name.clone());
             let options = CompileOptions {
                 output: Some(resource.to_string()),
-                edits: GraphEdits { stop_after, ..Default::default() },
+                edits: GraphEdits { stop_after, set: set.clone(), ..Default::default() },
                 ..Default::default()
             };
             let img = render_with(gpu, load_scene(scene_file), &graph_path, SIZE, FRAMES, &options);
             let name = format!(
-                "{}-{}-{}-{resource}",
+                "{}{variant}-{}-{}-{resource}",
                 graph_file.trim_end_matches(".ron"),
                 scene_file.trim_end_matches(".ron"),
                 pass.name
@@ -154,12 +167,14 @@ fn golden_images_of_every_pass() {
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }
+    count += golden_variant("irradiance.ron", "cornell.ron", "-ddgi", &["probes.mode=ddgi"], &mut failures);
     // Debug views: passes that run only when their resource is the output.
-    for (graph, scene, view) in [("irradiance.ron", "cornell.ron", "probe_view")] {
+    for (graph, scene, variant, view) in [("irradiance.ron", "cornell.ron", "", "probe_view"), ("irradiance.ron", "cornell.ron", "-ddgi", "probe_view")] {
         let Some(gpu) = gpu() else { break };
-        let options = CompileOptions { output: Some(view.to_string()), ..Default::default() };
+        let set: Vec<ParamSet> = if variant == "-ddgi" { vec!["probes.mode=ddgi".parse().unwrap_or_else(|e| panic!("{e}"))] } else { vec![] };
+        let options = CompileOptions { output: Some(view.to_string()), edits: GraphEdits { set, ..Default::default() }, ..Default::default() };
         let img = render_with(gpu, load_scene(scene), &repo().join("passes").join(graph), SIZE, FRAMES, &options);
-        let name = format!("{}-{}-{view}", graph.trim_end_matches(".ron"), scene.trim_end_matches(".ron"));
+        let name = format!("{}{variant}-{}-{view}", graph.trim_end_matches(".ron"), scene.trim_end_matches(".ron"));
         check(&name, &visualize(view, img), &mut failures);
         count += 1;
     }

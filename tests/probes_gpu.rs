@@ -64,3 +64,135 @@ fn furnace_every_thesis_probe_texel_holds_the_analytic_irradiance() {
     eprintln!("furnace: irradiance {want:.4} expected; worst texel off by {:.3}%", 100.0 * worst);
     assert!(worst <= 0.025, "a probe texel is {:.2}% off the analytic irradiance {want:.4}", 100.0 * worst);
 }
+
+fn parse_sets(sets: &[&str]) -> Vec<ParamSet> {
+    sets.iter().map(|s| s.parse().unwrap_or_else(|e| panic!("{e}"))).collect()
+}
+
+/// Renders `frames` frames of irradiance.ron in ddgi mode with `sets` and
+/// reads back `output`.
+fn ddgi_run(scene: glint::scene::Scene, sets: &[&str], output: &str, frames: u32) -> glint::gpu::readback::ImageF32 {
+    let gpu = gpu().expect("gpu");
+    let mut all = vec!["probes.mode=ddgi"];
+    all.extend_from_slice(sets);
+    let options = CompileOptions { output: Some(output.into()), edits: GraphEdits { set: parse_sets(&all), ..Default::default() }, ..Default::default() };
+    let g = compile(&scene, &repo().join("passes/irradiance.ron"), &options);
+    let mut s = session(gpu, scene, &g, (16, 16), 1);
+    for _ in 0..frames {
+        s.frame(0.0);
+    }
+    s.read_output().unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn furnace_every_ddgi_probe_texel_holds_the_analytic_irradiance() {
+    if gpu().is_none() {
+        return;
+    }
+    // Two-sided surfaces (the sphere's inside is the room); every bounce,
+    // one more per update, over 256 updates.
+    let sets = ["probes.level=3", "probes.padding=0.25", "ddgi_trace.solid_backfaces=0"];
+    let atlas = ddgi_run(scene_from(FURNACE), &sets, "ddgi_irradiance", 257);
+    assert_eq!((atlas.width, atlas.height), (16 * 8, 4 * 8));
+    // All bounces: emission / (1 - albedo) = 2.
+    let want = std::f64::consts::PI * 2.0;
+    let mut worst = 0.0f64;
+    for p in &atlas.data {
+        for c in &p[..3] {
+            worst = worst.max((f64::from(*c) / want - 1.0).abs());
+        }
+    }
+    eprintln!("ddgi furnace: irradiance {want:.4} expected; worst texel off by {:.3}%", 100.0 * worst);
+    assert!(worst <= 0.025, "a probe texel is {:.2}% off the analytic irradiance {want:.4}", 100.0 * worst);
+}
+
+#[test]
+fn a_ddgi_probe_inside_a_sphere_moves_out_or_switches_off() {
+    if gpu().is_none() {
+        return;
+    }
+    let scene = load_scene("cornell.ron");
+    // Level 4 over the box [-1, 1]^3 padded by 0.1: probes 0.4 apart from
+    // -0.8; probe (1, 0, 1) at (-0.4, -0.8, -0.4) is inside the white sphere
+    // (centre (-0.4, -0.65, -0.3), radius 0.35).
+    let state = ddgi_run(scene, &[], "ddgi_state", 8);
+    let n = 5;
+    let probe = 1 + n * n; // (1, 0, 1)
+    let s = state.data[probe];
+    let at = glam::Vec3::new(-0.4 + s[0], -0.8 + s[1], -0.4 + s[2]);
+    let from_centre = (at - glam::Vec3::new(-0.4, -0.65, -0.3)).length();
+    eprintln!("probe inside the sphere: offset ({:.3}, {:.3}, {:.3}), {from_centre:.3} from the centre, on = {}", s[0], s[1], s[2], s[3]);
+    assert!(from_centre > 0.35 || s[3] == 0.0, "still inside and on: {s:?}");
+    // A probe in open space stays on its grid point.
+    let open = state.data[2 + n * (2 + n * 2)];
+    assert_eq!(open, [0.0, 0.0, 0.0, 1.0]);
+}
+
+/// Two rooms, [-2, 0.3] and [0.3, 2] in x (y and z in [-1, 1]), split by
+/// a wall 0.04 thick: a tenth of the probe spacing at level 4 (0.4 in y
+/// and z, 0.8 in x; probes at x = -1.6, -0.8, 0, 0.8, 1.6, so the wall
+/// runs between two layers of probes). A sphere light in the left room
+/// only. `camera` is placed by the caller.
+fn two_rooms(camera: &str) -> String {
+    format!(
+        r#"Scene(
+    camera: {camera},
+    background: (0.0, 0.0, 0.0),
+    materials: {{ "white": Material(albedo: (0.8, 0.8, 0.8)) }},
+    objects: [
+        Quad(vertices: [(-2.0, -1.0, -1.0), (-2.0, -1.0, 1.0), (2.0, -1.0, 1.0), (2.0, -1.0, -1.0)], material: "white"),
+        Quad(vertices: [(-2.0, 1.0, -1.0), (2.0, 1.0, -1.0), (2.0, 1.0, 1.0), (-2.0, 1.0, 1.0)], material: "white"),
+        Quad(vertices: [(-2.0, -1.0, -1.0), (2.0, -1.0, -1.0), (2.0, 1.0, -1.0), (-2.0, 1.0, -1.0)], material: "white"),
+        Quad(vertices: [(-2.0, -1.0, 1.0), (-2.0, 1.0, 1.0), (2.0, 1.0, 1.0), (2.0, -1.0, 1.0)], material: "white"),
+        Quad(vertices: [(-2.0, -1.0, -1.0), (-2.0, 1.0, -1.0), (-2.0, 1.0, 1.0), (-2.0, -1.0, 1.0)], material: "white"),
+        Quad(vertices: [(2.0, -1.0, -1.0), (2.0, -1.0, 1.0), (2.0, 1.0, 1.0), (2.0, 1.0, -1.0)], material: "white"),
+        // The wall: its two faces, each facing its room.
+        Quad(vertices: [(0.28, -1.0, -1.0), (0.28, -1.0, 1.0), (0.28, 1.0, 1.0), (0.28, 1.0, -1.0)], material: "white"),
+        Quad(vertices: [(0.32, -1.0, -1.0), (0.32, 1.0, -1.0), (0.32, 1.0, 1.0), (0.32, -1.0, 1.0)], material: "white"),
+    ],
+    lights: [ SphereLight(center: (-1.0, 0.5, 0.0), radius: 0.1, radiance: (50.0, 50.0, 50.0)) ],
+)"#
+    )
+}
+
+/// Mean of the indirect light the volume (`mode` thesis or ddgi) puts on
+/// what `camera` sees.
+fn indirect_seen(camera: &str, mode: &str) -> f64 {
+    let scene = scene_from(&two_rooms(camera));
+    let (sets, last) = if mode == "ddgi" {
+        (parse_sets(&["probes.mode=ddgi", "ddgi_trace.emitters=0"]), "irradiance_ddgi")
+    } else {
+        (parse_sets(&["thesis_radiance.emitters=0"]), "irradiance")
+    };
+    let options = CompileOptions {
+        output: Some("lit".into()),
+        edits: GraphEdits { set: sets, stop_after: Some(last.into()), ..Default::default() },
+        ..Default::default()
+    };
+    let g = compile(&scene, &repo().join("passes/irradiance.ron"), &options);
+    let mut s = session(gpu().expect("gpu"), scene, &g, (32, 32), 1);
+    for _ in 0..64 {
+        s.frame(0.0);
+    }
+    let img = s.read_output().unwrap_or_else(|e| panic!("{e}"));
+    img.data.iter().map(|p| f64::from(p[0] + p[1] + p[2]) / 3.0).sum::<f64>() / img.data.len() as f64
+}
+
+#[test]
+fn ddgi_light_does_not_leak_through_a_thin_wall() {
+    if gpu().is_none() {
+        return;
+    }
+    // Each camera in its room, looking at the wall and the floor by it.
+    let in_lit = "Camera(position: (-1.9, 0.0, 0.0), target: (0.3, -0.5, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 60.0)";
+    let in_dark = "Camera(position: (1.9, 0.0, 0.0), target: (0.3, -0.5, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 60.0)";
+    let (lit, dark) = (indirect_seen(in_lit, "ddgi"), indirect_seen(in_dark, "ddgi"));
+    eprintln!("leak (ddgi): indirect light seen in the lit room {lit:.5}, in the dark room {dark:.6} ({:.3}%)", 100.0 * dark / lit);
+    assert!(lit > 0.01, "the lit room has indirect light: {lit}");
+    assert!(dark < 0.01 * lit, "the dark room gets {:.2}% of the lit room's indirect light", 100.0 * dark / lit);
+    // The thesis's volume has no visibility: its probes on the lit side
+    // light the dark side of the wall. The scene shows a leak when there is one.
+    let (lit, dark) = (indirect_seen(in_lit, "thesis"), indirect_seen(in_dark, "thesis"));
+    eprintln!("leak (thesis): lit room {lit:.5}, dark room {dark:.6} ({:.3}%)", 100.0 * dark / lit);
+    assert!(dark > 0.01 * lit, "the thesis volume was expected to leak: {:.3}%", 100.0 * dark / lit);
+}

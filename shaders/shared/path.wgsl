@@ -25,8 +25,9 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 
 // The radiance arriving at `ro_in` from direction -`rd_in`: at most
 // `max_depth` bounces, Russian roulette from bounce `rr_depth`. Without
-// `first_emission`, an emitter hit first counts nothing (light from
-// surfaces only: indirect light at a probe).
+// `first_emission`, a light hit first counts nothing (what the hybrid's
+// light passes shade is left out: indirect light at a probe; emissive
+// surfaces still count, as no light pass samples them).
 fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> vec3f {
     var ro = ro_in;
     var rd = rd_in;
@@ -49,7 +50,7 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
         }
         let m = scene_materials[hit.material];
         let p = hit.position;
-        if is_emissive(m) && (depth > 0u || first_emission) {
+        if is_emissive(m) && (depth > 0u || first_emission || hit.light < 0) {
             var w = 1.0;
             if hit.light >= 0 && bsdf_pdf > 0.0 {
                 w = power_heuristic(bsdf_pdf, light_pdf(scene_lights[u32(hit.light)], prev_p));
