@@ -9,8 +9,7 @@
 // sphere's normal (a debug view; DDGI's probes at their relocated places,
 // inactive ones black).
 #import ddgi_volume
-#import intersect
-#import sampling
+#import lights
 
 @group(0) @binding(0) var gbuf_pos: texture_2d<f32>;
 @group(0) @binding(1) var gbuf_normal: texture_2d<f32>;
@@ -95,6 +94,103 @@ fn ddgi(@builtin(global_invocation_id) id: vec3u) {
         e = ddgi_irradiance_at(s.p, s.n, normalize(frame.camera.origin - s.p));
     }
     store_lit(id, s, e);
+}
+
+const SALT: u32 = 0x67617468u;
+
+// Gather rays on 1 / GATHER_PHASES of the pixels a frame (1, 2 or 4; see
+// ddgi_gather).
+override GATHER_PHASES: u32 = 4u;
+
+// Mirror bounces a gather ray follows: light reaching a surface by way of
+// a mirror (a caustic) is indirect light the light passes cannot shade.
+const GATHER_SPECULAR_DEPTH: u32 = 4u;
+
+// The light a gather ray from a surface brings back, diffuse reflection
+// only: at each hit, emission of an emissive surface (not of a light hit
+// straight away: the light passes shade that) and albedo / pi times direct
+// light (one light sample) plus the volume's irradiance there; a specular
+// surface reflects the ray on, up to GATHER_SPECULAR_DEPTH times, so a
+// light seen in a mirror counts.
+fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
+    var dir = dir_in;
+    var origin = o;
+    var atten = vec3f(1.0);
+    var out = vec3f(0.0);
+    for (var depth = 0u; depth <= GATHER_SPECULAR_DEPTH; depth++) {
+        let hit = trace_closest(origin, dir, 3.0e38);
+        if !hit_found(hit) {
+            return out + atten * frame.background;
+        }
+        let m = scene_materials[hit.material];
+        if hit.light >= 0 {
+            return out + select(vec3f(0.0), atten * m.emission, depth > 0u);
+        }
+        let flip = select(1.0, -1.0, dot(hit.geo_normal, dir) > 0.0);
+        let ng = hit.geo_normal * flip;
+        var n = hit.normal * flip;
+        if dot(n, dir) > 0.0 {
+            n = ng;
+        }
+        let next = offset_ray(hit.position, ng);
+        let base = m.albedo * (1.0 - m.specular);
+        if max3(base) > 0.0 {
+            var e = ddgi_irradiance_at(hit.position, n, -dir);
+            // One light, picked uniformly: one shadow ray however many
+            // lights there are (their sum is n times its mean).
+            if frame.n_lights > 0u {
+                let i = min(u32(rand_f32(rng) * f32(frame.n_lights)), frame.n_lights - 1u);
+                e += f32(frame.n_lights) * light_irradiance(scene_lights[i], hit.position, n, next, 1u, 0u, 0.0, rng);
+            }
+            out += atten * base / PI * e;
+        }
+        if is_emissive(m) {
+            out += atten * m.emission;
+        }
+        if m.specular <= 0.0 {
+            break;
+        }
+        atten *= m.specular * m.albedo;
+        dir = reflect(dir, n);
+        origin = next;
+    }
+    return out;
+}
+
+// Indirect light by one gather ray a pixel a frame: a cosine-distributed
+// ray from the surface, the light its hit sends back (`gather_hit`). The
+// first bounce is traced, so contact shadows and near walls are exact;
+// the volume supplies only the light arriving at the gather hits. Its
+// mean over frames is the indirect light (`accumulate` takes it).
+@compute @workgroup_size(8, 8)
+fn ddgi_gather(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let s = surface(id);
+    if !s.lit {
+        store_lit(id, s, vec3f(0.0));
+        return;
+    }
+    // 1 / GATHER_PHASES of the pixels a frame, in turn, each weighing
+    // GATHER_PHASES (the mean over that many frames is the same; the cost
+    // is a fraction): whole 8x8 tiles in a 2x2 pattern, so workgroups (and
+    // SIMD groups) skip together; a per-pixel checkerboard saved nothing on
+    // lavapipe.
+    let tile = id.xy / 8u;
+    let phase = select((tile.x & 1u) + 2u * (tile.y & 1u), (tile.x + tile.y) & 1u, GATHER_PHASES == 2u);
+    if GATHER_PHASES > 1u && phase != frame.frame_index % GATHER_PHASES {
+        store_lit(id, s, vec3f(0.0));
+        return;
+    }
+    let weight = f32(max(GATHER_PHASES, 1u));
+    var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
+    let o = offset_ray(s.p, s.n);
+    let dir = sample_cosine(s.n, rand2(&rng));
+    let l = gather(o, dir, &rng);
+    // Cosine sampling: albedo / pi x L cos / pdf = albedo x L, which
+    // store_lit writes as base / pi x (pi L).
+    store_lit(id, s, weight * PI * l);
 }
 
 @group(0) @binding(7) var probe_view: texture_storage_2d<rgba32float, write>;

@@ -202,7 +202,7 @@ mod tests {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/machines.ron");
         let m = Machines::load(&path).expect("machines.ron parses");
         assert_eq!(m.pick(DeviceType::Cpu, "llvmpipe (LLVM 15)").graph, "hybrid-point.ron");
-        assert_eq!(m.pick(DeviceType::DiscreteGpu, "NVIDIA H100").graph, "hybrid.ron");
+        assert_eq!(m.pick(DeviceType::DiscreteGpu, "NVIDIA H100").graph, "hybrid-gi.ron");
         for p in m.profiles.iter().chain([&m.default]) {
             assert!(Path::new(env!("CARGO_MANIFEST_DIR")).join("passes").join(&p.graph).is_file(), "{} names a missing graph", p.name);
         }

@@ -164,6 +164,7 @@ fn golden_images_of_every_pass() {
         ("hybrid-point.ron", "cornell.ron"),
         ("hybrid-point.ron", "moving-lights.ron"),
         ("irradiance.ron", "cornell.ron"),
+        ("hybrid-gi.ron", "cornell.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }

@@ -1,0 +1,16 @@
+// Reflections (reflections.wgsl) whose shaded hits also get diffuse
+// indirect light from the DDGI volume (hybrid-gi.ron).
+#import reflect
+#import ddgi_volume
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    var r = reflect_begin(id);
+    while reflect_next(&r) {
+        reflect_shade(&r, ddgi_irradiance_at(r.hit_p, r.hit_n, -r.dir));
+    }
+    reflect_end(id, r);
+}
