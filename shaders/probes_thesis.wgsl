@@ -21,6 +21,11 @@ struct Params {
     // the volume is all the light); 0: only light from surfaces (indirect,
     // for a graph that shades direct light itself).
     emitters: u32, // ui: 0..1 "lights seen from the probe"
+    // 0: path traced (chapter 3); 1: Greger et al.'s diffuse radiance, the
+    // method the thesis compares with (table 3.2): every surface counts as
+    // fully lit, the first diffuse hit's albedo (after mirrors) is the
+    // radiance.
+    method: u32, // ui: 0..1 "method (0 path traced, 1 diffuse radiance)"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -31,6 +36,33 @@ const SALT: u32 = 0x74686573u;
 // Samples per axis: the height of a probe's tile.
 fn spa(dims: vec2u) -> u32 {
     return dims.y / max(frame.probe_n, 1u);
+}
+
+// Greger et al. 1998: the radiance seen along a ray is the albedo of the
+// first diffuse surface (as if it were fully lit by white light), scaled
+// by the mirrors on the way; emitters show their emission.
+fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
+    var origin = o;
+    var dir = d;
+    var atten = vec3f(1.0);
+    for (var depth = 0u; depth < 8u; depth++) {
+        let hit = trace_closest(origin, dir, 3.0e38);
+        if !hit_found(hit) {
+            return atten * frame.background;
+        }
+        let m = scene_materials[hit.material];
+        if is_emissive(m) {
+            return select(vec3f(0.0), atten * m.emission, params.emitters != 0u || hit.light < 0);
+        }
+        if m.specular <= 0.0 {
+            return atten * m.albedo;
+        }
+        let ng = hit.geo_normal * select(1.0, -1.0, dot(hit.geo_normal, dir) > 0.0);
+        atten *= m.specular * m.albedo;
+        dir = reflect(dir, ng);
+        origin = offset_ray(hit.position, ng);
+    }
+    return vec3f(0.0);
 }
 
 @compute @workgroup_size(8, 8)
@@ -45,7 +77,12 @@ fn radiance(@builtin(global_invocation_id) id: vec3u) {
     let origin = probe_position(probe_coords(probe));
     var rng = rng_for(id.xy, run.iteration, SALT, frame.seed);
     let dir = hemisphere_texel_dir(id.xy % vec2u(2u * s, s), s, rand2(&rng));
-    let l = trace_path(origin, dir, params.bounces, params.rr_depth, params.emitters != 0u, &rng);
+    var l: vec3f;
+    if params.method == 1u {
+        l = diffuse_radiance(origin, dir);
+    } else {
+        l = trace_path(origin, dir, params.bounces, params.rr_depth, params.emitters != 0u, &rng);
+    }
     let before = textureLoad(thesis_radiance, id.xy);
     let n = f32(run.since_change) + 1.0;
     var mean = before.rgb + (l - before.rgb) / n;

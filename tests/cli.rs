@@ -142,3 +142,44 @@ fn graph_edits_from_the_command_line() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("pass.param=value"), "{err}");
 }
+
+/// `glint bake --out` then `glint render --volume`: the loaded volume is
+/// the one baked in a render session (bit for bit: the bake's random
+/// streams follow the iteration, not the frame), and a volume for another
+/// scene or mode is refused with the reason.
+#[test]
+fn a_baked_volume_loads_and_a_stale_one_is_refused() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("bake");
+    let vol = dir.join("cornell.glv").to_string_lossy().into_owned();
+    let (code, out, err) = glint(&["bake", "scenes/cornell.ron", "--level", "2", "--spa", "4", "--paths", "32", "--out", &vol]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("(13824 bytes;"), "27 probes x 2 x 4^2 x 16 bytes: {out}");
+    let loaded = dir.join("loaded.pfm").to_string_lossy().into_owned();
+    let baked = dir.join("baked.pfm").to_string_lossy().into_owned();
+    let common_args = ["--graph", "passes/irradiance.ron", "--size", "8x8", "--output", "thesis_irradiance", "--set", "probes.level=2"];
+    // The same map size as the bake's --spa 4: a graph variant.
+    let graph = std::fs::read_to_string(repo().join("passes/irradiance.ron")).unwrap().replace("ProbeTiles(16, 8)", "ProbeTiles(8, 4)").replace("until: 256", "until: 32");
+    let graph_path = write(&dir, "bake-spa4.ron", &graph);
+    let with = |extra: &[&str]| {
+        let mut a: Vec<&str> = vec!["render", "scenes/cornell.ron"];
+        a.extend_from_slice(&common_args);
+        a.extend_from_slice(extra);
+        a.iter().map(|s| if *s == "passes/irradiance.ron" { graph_path.as_str() } else { s }).map(str::to_string).collect::<Vec<_>>()
+    };
+    let run = |a: Vec<String>| glint(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let (code, _, err) = run(with(&["--volume", &vol, "--frames", "1", "--out", &loaded]));
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = run(with(&["--frames", "3", "--out", &baked]));
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(std::fs::read(&loaded).unwrap(), std::fs::read(&baked).unwrap(), "the loaded volume differs from one baked in the session");
+
+    let (code, _, err) = glint(&["render", "scenes/cornell-diffuse.ron", "--graph", "passes/irradiance.ron", "--set", "probes.level=2", "--volume", &vol, "--out", &loaded]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("cornell.glv") && err.contains("geometry, materials or lights changed"), "{err}");
+    let (code, _, err) = glint(&["render", "scenes/cornell.ron", "--graph", "passes/irradiance.ron", "--volume", &vol, "--out", &loaded]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("level 2") && err.contains("level 4"), "{err}");
+}

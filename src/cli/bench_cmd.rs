@@ -25,7 +25,11 @@ pub enum BenchCommand {
     /// of its own converged result; with --camera-path, the error after
     /// N frames of camera motion.
     Converge(super::converge_cmd::ConvergeArgs),
+    /// The thesis's tables 3.1 and 3.2: bake seconds and MiB over probe
+    /// levels and samples per axis, path traced and by diffuse radiance.
+    Bake(super::bake_cmd::BakeBenchArgs),
 }
+
 
 #[derive(Args, Debug)]
 pub struct StressArgs {
@@ -75,6 +79,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), UserError> {
         BenchCommand::Rays(args) => rays(args),
         BenchCommand::Stress(args) => stress(args),
         BenchCommand::Converge(args) => super::converge_cmd::run(args),
+        BenchCommand::Bake(args) => super::bake_cmd::bake_tables(args),
     }
 }
 
@@ -320,3 +325,4 @@ mod tests {
         assert!(parse_camera("0,0,NaN,0,0,0,45").is_err());
     }
 }
+

@@ -18,6 +18,7 @@ macro_rules! out_raw {
     }};
 }
 
+mod bake_cmd;
 mod bench_cmd;
 mod converge_cmd;
 mod graph_cmd;
@@ -42,6 +43,9 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to a PNG (sRGB) or EXR (linear) file.
     Render(render_cmd::RenderArgs),
+    /// Bake a graph's irradiance volume alone (progress, seconds, MiB);
+    /// --out saves it for `glint render --volume`.
+    Bake(bake_cmd::BakeArgs),
     /// Benchmarks.
     Bench {
         #[command(subcommand)]
@@ -148,6 +152,7 @@ pub fn main() -> i32 {
         Command::Render(args) => watch_cmd::run(&args),
         Command::View(args) => view_cmd::run(args),
         Command::Machines => view_cmd::machines(),
+        Command::Bake(args) => bake_cmd::run(args),
         Command::Bench { command } => bench_cmd::run(command),
         Command::Graph { command: GraphCommand::Check(args) } => graph_cmd::check(args),
         Command::Shaders { files, dir } => graph_cmd::check_shaders(files, dir),

@@ -57,6 +57,10 @@ pub struct RenderArgs {
     /// which costs frame time. GPUs always report per-pass timestamps.
     #[arg(long)]
     pub profile: bool,
+    /// Start from a baked irradiance volume (`glint bake --out`): refused
+    /// when it was baked for another scene or probe grid.
+    #[arg(long)]
+    pub volume: Option<PathBuf>,
     /// Keep running: re-render and rewrite the outputs after every good
     /// save of a shader, the graph, the scene or its meshes (Ctrl-C ends).
     #[arg(long)]
@@ -129,6 +133,9 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
     frames.target = target;
     let mut session = Session::new(&gpu, scene, &graph_path, options)?;
     session.timing = Timing::for_adapter(&gpu, args.profile);
+    if let Some(volume) = &args.volume {
+        super::bake_cmd::load_into(&mut session, &args.scene, volume)?;
+    }
     Ok(Prepared { session, frames })
 }
 

@@ -183,6 +183,10 @@ impl Executor {
             if t.usage.storage {
                 usage |= wgpu::TextureUsages::STORAGE_BINDING;
             }
+            if t.persistent {
+                // A volume loaded from a file is written into it.
+                usage |= wgpu::TextureUsages::COPY_DST;
+            }
             let key = TextureKey { label: t.label.clone(), format: t.format, size: (w, h), usage };
             if let Some(i) = spare.iter().position(|p| p.key == key) {
                 textures.push(spare.swap_remove(i));
@@ -323,6 +327,66 @@ impl Executor {
         self.schedule.passes.iter().zip(&self.runs).any(|(sp, st)| {
             sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !st.plan(sp.run, epoch, false).0.is_empty()
         })
+    }
+
+    /// Marks every pass that does not run every frame as done for the
+    /// scene at `epoch` (a volume loaded from a file): it runs again only
+    /// when the scene changes. A progressive pass counts as `until`
+    /// iterations in (forever-running ones go on).
+    pub fn finish_runs(&mut self, epoch: u32) {
+        for (sp, st) in self.schedule.passes.iter().zip(&mut self.runs) {
+            let n = match sp.run {
+                RunMode::EveryFrame | RunMode::Progressive { until: None, .. } => continue,
+                RunMode::Progressive { until: Some(u), .. } => u,
+                _ => 1,
+            };
+            *st = RunState { iteration: n, since_change: n, last_epoch: Some(epoch) };
+        }
+    }
+
+    /// The persistent resources (name, format, size) of this schedule.
+    pub fn persistent_resources(&self) -> Vec<(String, TexFormat, (u32, u32))> {
+        let mut out: Vec<(String, TexFormat, (u32, u32))> = Vec::new();
+        for v in &self.schedule.versions {
+            let i = v.texture.resolve(0);
+            if self.schedule.textures.get(i).is_some_and(|t| t.persistent) && !out.iter().any(|o| o.0 == v.resource) {
+                let t = &self.textures[i].texture;
+                out.push((v.resource.clone(), self.schedule.textures[i].format, (t.width(), t.height())));
+            }
+        }
+        out
+    }
+
+    /// Overwrites a persistent Rgba32Float resource with `texels` (row by
+    /// row, its exact size).
+    pub fn write_persistent(&self, gpu: &Gpu, resource: &str, texels: &[[f32; 4]]) -> Result<(), UserError> {
+        let Some((_, format, (w, h))) = self.persistent_resources().into_iter().find(|r| r.0 == resource) else {
+            return Err(UserError::new(format!("graph `{}` has no persistent resource `{resource}`", self.schedule.name)));
+        };
+        if format != TexFormat::Rgba32Float || texels.len() != (w as usize) * (h as usize) {
+            return Err(UserError::new(format!("`{resource}` is {format:?} {w}x{h}; {} RGBA f32 texels do not fill it", texels.len())));
+        }
+        let Some((texture, _)) = self.resource_texture(resource) else {
+            return Err(UserError::new(format!("`{resource}` has no texture")));
+        };
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+            bytemuck::cast_slice(texels),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * 16), rows_per_image: Some(h) },
+            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        );
+        match pollster::block_on(scope.pop()) {
+            Some(e) => Err(UserError::new(format!("{} refused writing `{resource}`: {e}", gpu.describe()))),
+            None => Ok(()),
+        }
+    }
+
+    /// Reads a persistent resource back (what its last write left).
+    pub fn read_persistent(&self, gpu: &Gpu, resource: &str) -> Option<Result<ImageF32, UserError>> {
+        self.persistent_resources().iter().find(|r| r.0 == resource)?;
+        let (texture, format) = self.resource_texture(resource)?;
+        Some(read_texture(&gpu.device, &gpu.queue, texture, format))
     }
 
     /// Forgets how often each pass ran: `Once` and progressive passes start

@@ -12,4 +12,5 @@
 
 pub mod grid;
 pub mod mapping;
+pub mod volume_file;
 pub use grid::ProbeGrid;

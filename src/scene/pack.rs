@@ -128,6 +128,22 @@ impl Scene {
         }
     }
 
+    /// A stable hash of what the scene holds as loaded (geometry, normals,
+    /// materials, lights, background), packed at the world origin: a baked
+    /// volume names its scene by it.
+    pub fn content_hash(&self) -> u64 {
+        use crate::probes::volume_file::{fnv1a, FNV_START};
+        let d = self.pack_at(DVec3::ZERO);
+        let mut h = FNV_START;
+        h = fnv1a(bytemuck::cast_slice(&d.spheres), h);
+        h = fnv1a(bytemuck::cast_slice(&d.triangles), h);
+        h = fnv1a(bytemuck::cast_slice(&d.normals), h);
+        h = fnv1a(bytemuck::cast_slice(&d.meshes), h);
+        h = fnv1a(bytemuck::cast_slice(&d.materials), h);
+        h = fnv1a(bytemuck::cast_slice(&d.lights), h);
+        fnv1a(bytemuck::cast_slice(&d.background), h)
+    }
+
     /// The f64 bounds of every sphere (sphere lights included) and mesh
     /// triangle; `None` for a scene without any.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {

@@ -12,6 +12,7 @@
 
 pub mod frame_loop;
 pub mod frame_uniform;
+mod volume;
 pub mod rebuild;
 pub mod scene_gpu;
 
