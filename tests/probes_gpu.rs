@@ -196,3 +196,58 @@ fn ddgi_light_does_not_leak_through_a_thin_wall() {
     eprintln!("leak (thesis): lit room {lit:.5}, dark room {dark:.6} ({:.3}%)", 100.0 * dark / lit);
     assert!(dark > 0.01 * lit, "the thesis volume was expected to leak: {:.3}%", 100.0 * dark / lit);
 }
+
+/// Mean over texels of |a - b| over the mean of b (rgb).
+fn relative_difference(a: &glint::gpu::readback::ImageF32, b: &glint::gpu::readback::ImageF32) -> f64 {
+    let (mut diff, mut sum) = (0.0f64, 0.0f64);
+    for (p, q) in a.data.iter().zip(&b.data) {
+        for c in 0..3 {
+            diff += f64::from((p[c] - q[c]).abs());
+            sum += f64::from(q[c]);
+        }
+    }
+    diff / sum.max(1e-30)
+}
+
+/// Frames for hybrid-gi's volume to follow a light: the three lights of
+/// moving-lights.ron (120 degrees apart) stand still until the volume has
+/// converged, then jump 60 degrees on (1 s of their orbit), as far from
+/// where they were as they get. Each frame after the jump the volume is
+/// compared with one converged with the lights there: the frames until the
+/// difference is a tenth, and a twentieth, of what it was at the jump.
+#[test]
+fn ddgi_follows_a_moving_light_within_a_bounded_number_of_frames() {
+    let Some(gpu) = gpu() else { return };
+    let graph = repo().join("passes/hybrid-gi.ron");
+    let options = CompileOptions { output: Some("ddgi_irradiance".into()), ..Default::default() };
+    let converged_at = |t: f32, seed: u32| {
+        let scene = load_scene("moving-lights.ron");
+        let g = compile(&scene, &graph, &options);
+        let mut s = session(gpu, scene, &g, (8, 8), seed);
+        for _ in 0..257 {
+            s.frame(t);
+        }
+        s
+    };
+    let target = converged_at(1.0, 1).read_output().unwrap_or_else(|e| panic!("{e}"));
+    // Two converged volumes differ by their noise: the floor.
+    let floor = relative_difference(&converged_at(1.0, 2).read_output().unwrap_or_else(|e| panic!("{e}")), &target);
+    let mut s = converged_at(0.0, 1);
+    let at_jump = relative_difference(&s.read_output().unwrap_or_else(|e| panic!("{e}")), &target);
+    let mut errors = Vec::new();
+    for _ in 0..120 {
+        s.frame(1.0);
+        errors.push(relative_difference(&s.read_output().unwrap_or_else(|e| panic!("{e}")), &target) / at_jump);
+    }
+    let within = |share: f64| errors.iter().position(|&e| e <= share).map_or(usize::MAX, |i| i + 1);
+    eprintln!(
+        "follow: the volume differs by {:.1}% at the jump (two converged volumes: {:.1}%); half of that left after {} frames, a quarter after {}, a tenth after {}",
+        100.0 * at_jump,
+        100.0 * floor,
+        within(0.5),
+        within(0.25),
+        within(0.1)
+    );
+    assert!(at_jump > 4.0 * floor, "the jump should change the volume well beyond its noise: {at_jump} vs {floor}");
+    assert!(within(0.5) <= 20 && within(0.25) <= 40, "the volume follows too slowly: {errors:?}");
+}

@@ -191,9 +191,14 @@ fn schedule(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Ve
                         ui.label(RichText::new(format!("{name}: {why}")).color(Color32::GRAY));
                     }
                     (false, None) => {
-                        let ms = input.frames.stats.last.get(name.as_str());
-                        ui.label(match ms {
+                        let last = &input.frames.stats.last;
+                        ui.label(match last.get(name.as_str()) {
                             Some(ms) => format!("{name}: {ms:.2} ms"),
+                            // Other passes were timed: this one did not run.
+                            None if !last.is_empty() => {
+                                let run = session.executor.schedule.passes.iter().find(|p| &p.name == name).map(|p| p.run.describe()).unwrap_or_default();
+                                format!("{name}: did not run (runs {run})")
+                            }
                             None => format!("{name}: (not timed)"),
                         });
                     }
