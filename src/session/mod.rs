@@ -204,11 +204,6 @@ impl Session {
             }
             None => camera,
         };
-        // A volume pass runs this frame: what was accumulated is stale.
-        if self.executor.updates_persistent(epoch) {
-            st.accum_count = 0;
-            st.epoch_frames = 0;
-        }
         let grid = self.scene.probe_grid(self.executor.schedule.probes);
         let data = &self.scene.buffers.data;
         let frame = FrameGpu {
