@@ -174,33 +174,47 @@ fn blend_weight() -> f32 {
 
 @group(0) @binding(4) var irradiance_maps: texture_storage_2d<rgba32float, read_write>;
 
-@compute @workgroup_size(8, 8)
-fn blend_irradiance(@builtin(global_invocation_id) id: vec3u) {
-    let dims = textureDimensions(irradiance_maps);
+// A texel of a probe's map in an atlas of `dims`: its probe's first ray,
+// the ray count and the direction the texel stands for (a border texel
+// the direction of the interior texel it repeats); `ok` is false outside.
+struct MapTexel {
+    ok: bool,
+    rays_from: vec2u,
+    count: u32,
+    dir: vec3f,
+}
+
+fn map_texel(id: vec2u, dims: vec2u) -> MapTexel {
     let tile = dims.y / max(frame.probe_n, 1u);
-    if frame.probe_n < 2u || tile < 3u || any(id.xy >= dims) {
-        return;
+    if frame.probe_n < 2u || tile < 3u || any(id >= dims) {
+        return MapTexel(false, vec2u(0u), 0u, vec3f(0.0));
     }
     let n = tile - 2u;
-    let t = id.xy / tile;
-    let probe = t.x + t.y * frame.probe_n * frame.probe_n;
-    let normal = oct_texel_dir(border_source(id.xy % tile, n), n);
+    let t = id / tile;
     let count = rays_per_probe(textureDimensions(rays));
-    let corner = vec2u((probe % (frame.probe_n * frame.probe_n)) * count, 2u * (probe / (frame.probe_n * frame.probe_n)));
+    return MapTexel(true, vec2u(t.x * count, 2u * t.y), count, oct_texel_dir(border_source(id % tile, n), n));
+}
+
+@compute @workgroup_size(8, 8)
+fn blend_irradiance(@builtin(global_invocation_id) id: vec3u) {
+    let m = map_texel(id.xy, textureDimensions(irradiance_maps));
+    if !m.ok {
+        return;
+    }
     var sum = vec3f(0.0);
     var weights = 0.0;
-    for (var i = 0u; i < count; i++) {
-        let r = textureLoad(rays, corner + vec2u(i, 0u));
-        let w = max(dot(textureLoad(rays, corner + vec2u(i, 1u)).xyz, normal), 0.0);
+    for (var i = 0u; i < m.count; i++) {
+        let r = textureLoad(rays, m.rays_from + vec2u(i, 0u));
+        let w = max(dot(textureLoad(rays, m.rays_from + vec2u(i, 1u)).xyz, m.dir), 0.0);
         if r.w >= 0.0 {
             sum += w * r.rgb;
             weights += w;
         }
     }
-    let before = textureLoad(irradiance_maps, id.xy);
     if weights <= 0.0 {
         return;
     }
+    let before = textureLoad(irradiance_maps, id.xy);
     // The cosine-weighted mean radiance is irradiance / pi.
     let e = PI * sum / weights;
     textureStore(irradiance_maps, id.xy, vec4f(mix(before.rgb, e, blend_weight()), 1.0));
@@ -210,23 +224,16 @@ fn blend_irradiance(@builtin(global_invocation_id) id: vec3u) {
 
 @compute @workgroup_size(8, 8)
 fn blend_distance(@builtin(global_invocation_id) id: vec3u) {
-    let dims = textureDimensions(distance_maps);
-    let tile = dims.y / max(frame.probe_n, 1u);
-    if frame.probe_n < 2u || tile < 3u || any(id.xy >= dims) {
+    let m = map_texel(id.xy, textureDimensions(distance_maps));
+    if !m.ok {
         return;
     }
-    let n = tile - 2u;
-    let t = id.xy / tile;
-    let probe = t.x + t.y * frame.probe_n * frame.probe_n;
-    let dir = oct_texel_dir(border_source(id.xy % tile, n), n);
-    let count = rays_per_probe(textureDimensions(rays));
-    let corner = vec2u((probe % (frame.probe_n * frame.probe_n)) * count, 2u * (probe / (frame.probe_n * frame.probe_n)));
     let far = ddgi_max_distance();
     var sum = vec2f(0.0);
     var weights = 0.0;
-    for (var i = 0u; i < count; i++) {
-        let d = min(abs(textureLoad(rays, corner + vec2u(i, 0u)).w), far);
-        let w = pow(max(dot(textureLoad(rays, corner + vec2u(i, 1u)).xyz, dir), 0.0), 50.0);
+    for (var i = 0u; i < m.count; i++) {
+        let d = min(abs(textureLoad(rays, m.rays_from + vec2u(i, 0u)).w), far);
+        let w = pow(max(dot(textureLoad(rays, m.rays_from + vec2u(i, 1u)).xyz, m.dir), 0.0), 50.0);
         sum += w * vec2f(d, d * d);
         weights += w;
     }

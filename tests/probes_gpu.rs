@@ -251,3 +251,66 @@ fn ddgi_follows_a_moving_light_within_a_bounded_number_of_frames() {
     assert!(at_jump > 4.0 * floor, "the jump should change the volume well beyond its noise: {at_jump} vs {floor}");
     assert!(within(0.5) <= 20 && within(0.25) <= 40, "the volume follows too slowly: {errors:?}");
 }
+
+/// The shaders' maps and grid (shaders/shared/probes.wgsl) against their
+/// Rust mirrors (src/probes/), on the axes, the diagonals, a spiral of
+/// directions, points in and around the grid and a NaN point.
+#[test]
+fn the_gpu_maps_and_grid_match_the_rust_mirror() {
+    use glam::Vec3;
+    use glint::probes::mapping::{hemisphere_bucket, oct_encode};
+    let Some(gpu) = gpu() else { return };
+    let scene = load_scene("cornell.ron");
+    let g = compile(&scene, &repo().join("tests/graphs/probes.ron"), &CompileOptions::default());
+    let mut s = session(gpu, scene, &g, (8, 8), 1);
+    s.frame(0.0);
+    let out = s.read_output().unwrap_or_else(|e| panic!("{e}"));
+    let grid = s.scene.probe_grid(s.executor.schedule.probes).expect("a grid");
+    let count = out.width as usize;
+    let dir = |i: usize| -> Vec3 {
+        if i < 26 {
+            let k = if i >= 13 { i + 1 } else { i } as i32;
+            return Vec3::new((k % 3 - 1) as f32, ((k / 3) % 3 - 1) as f32, (k / 9 - 1) as f32).normalize();
+        }
+        let (j, n) = ((i - 26) as f32, (count - 26) as f32);
+        let z = 1.0 - (2.0 * j + 1.0) / n;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = j * 2.399_963_2;
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    };
+    let point = |i: usize| -> Vec3 {
+        if i == 0 {
+            return Vec3::NAN;
+        }
+        let t = i as f32 / count as f32;
+        let n = grid.counts.x as f32;
+        let lo = grid.origin - grid.spacing * n;
+        let span = 3.0 * grid.spacing * n;
+        lo + span * Vec3::new(t, t * 7.0, t * 13.0).fract()
+    };
+    let (mut texel_misses, mut cell_misses) = (Vec::new(), Vec::new());
+    let mut worst_oct = 0.0f32;
+    for i in 0..count {
+        let d = dir(i);
+        let (upper, u, v) = hemisphere_bucket(d, 5);
+        let gpu_t = out.data[i];
+        let want = ((u + if upper { 0 } else { 5 }) as f32, v as f32);
+        if (gpu_t[0], gpu_t[1]) != want {
+            texel_misses.push((i, d, want, (gpu_t[0], gpu_t[1])));
+        }
+        let e = out.data[count + i];
+        let rust_e = oct_encode(d);
+        worst_oct = worst_oct.max((rust_e.x - e[0]).abs()).max((rust_e.y - e[1]).abs()).max(e[2]);
+        let (base, f) = grid.cell(point(i));
+        let (gb, gf) = (out.data[2 * count + i], out.data[3 * count + i]);
+        let base_ok = base.as_vec3() == Vec3::new(gb[0], gb[1], gb[2]);
+        let f_ok = (f - Vec3::new(gf[0], gf[1], gf[2])).abs().max_element() < 1e-4;
+        if !(base_ok && f_ok) {
+            cell_misses.push((i, point(i), base, f, gb, gf));
+        }
+    }
+    // A direction on a bucket's edge may round either way on either side.
+    assert!(texel_misses.len() <= 2, "hemisphere texels differ: {texel_misses:?}");
+    assert!(worst_oct < 1e-5, "octahedral encoding or round trip off by {worst_oct}");
+    assert!(cell_misses.is_empty(), "cells differ: {cell_misses:?}");
+}

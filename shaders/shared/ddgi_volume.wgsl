@@ -20,30 +20,34 @@ fn probe_state(probe: u32) -> vec4f {
     return textureLoad(ddgi_state, probe_tile(probe));
 }
 
-// Bilinear within a probe's tile of `atlas` (Rgba32Float is not
-// filterable, so by hand), at continuous tile point `q`.
+// Bilinear within a probe's tile (Rgba32Float is not filterable, so by
+// hand) at continuous tile point `q`: the four texels and the weights.
+struct Bilinear {
+    i: vec2u,
+    f: vec2f,
+}
+
+fn tile_bilinear(probe: u32, q: vec2f, n: u32) -> Bilinear {
+    let p = vec2f(probe_tile(probe) * (n + 2u)) + q - 0.5;
+    return Bilinear(vec2u(floor(p)), p - floor(p));
+}
+
 fn irradiance_bilinear(probe: u32, q: vec2f, n: u32) -> vec3f {
-    let corner = vec2f(probe_tile(probe) * (n + 2u));
-    let p = corner + q - 0.5;
-    let i = vec2u(floor(p));
-    let f = p - floor(p);
-    let a = textureLoad(ddgi_irradiance, i).rgb;
-    let b = textureLoad(ddgi_irradiance, i + vec2u(1u, 0u)).rgb;
-    let c = textureLoad(ddgi_irradiance, i + vec2u(0u, 1u)).rgb;
-    let d = textureLoad(ddgi_irradiance, i + vec2u(1u, 1u)).rgb;
-    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    let b = tile_bilinear(probe, q, n);
+    let t00 = textureLoad(ddgi_irradiance, b.i).rgb;
+    let t10 = textureLoad(ddgi_irradiance, b.i + vec2u(1u, 0u)).rgb;
+    let t01 = textureLoad(ddgi_irradiance, b.i + vec2u(0u, 1u)).rgb;
+    let t11 = textureLoad(ddgi_irradiance, b.i + vec2u(1u, 1u)).rgb;
+    return mix(mix(t00, t10, b.f.x), mix(t01, t11, b.f.x), b.f.y);
 }
 
 fn distance_bilinear(probe: u32, q: vec2f, n: u32) -> vec2f {
-    let corner = vec2f(probe_tile(probe) * (n + 2u));
-    let p = corner + q - 0.5;
-    let i = vec2u(floor(p));
-    let f = p - floor(p);
-    let a = textureLoad(ddgi_distance, i).rg;
-    let b = textureLoad(ddgi_distance, i + vec2u(1u, 0u)).rg;
-    let c = textureLoad(ddgi_distance, i + vec2u(0u, 1u)).rg;
-    let d = textureLoad(ddgi_distance, i + vec2u(1u, 1u)).rg;
-    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
+    let b = tile_bilinear(probe, q, n);
+    let t00 = textureLoad(ddgi_distance, b.i).rg;
+    let t10 = textureLoad(ddgi_distance, b.i + vec2u(1u, 0u)).rg;
+    let t01 = textureLoad(ddgi_distance, b.i + vec2u(0u, 1u)).rg;
+    let t11 = textureLoad(ddgi_distance, b.i + vec2u(1u, 1u)).rg;
+    return mix(mix(t00, t10, b.f.x), mix(t01, t11, b.f.x), b.f.y);
 }
 
 // The irradiance at point `p` with normal `n`, seen from direction `wo`
