@@ -28,4 +28,5 @@ pub mod scene;
 pub mod session;
 pub mod shader;
 pub mod stats;
+pub mod trade;
 pub mod viewer;

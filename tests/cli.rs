@@ -183,3 +183,35 @@ fn a_baked_volume_loads_and_a_stale_one_is_refused() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("level 2") && err.contains("level 4"), "{err}");
 }
+
+/// A small `glint trade`: the files, an error that falls as frames
+/// accumulate, and a last FLIP that `glint compare` of the written images
+/// agrees with.
+#[test]
+fn trade_measures_each_graph_against_the_reference() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("trade");
+    let out = dir.to_string_lossy().into_owned();
+    let args = ["trade", "scenes/cornell.ron", "--graphs", "passes/hybrid-point.ron,passes/pathtrace.ron", "--size", "32x32", "--frames", "8", "--reference-frames", "64", "--out", &out];
+    let (code, stdout, err) = glint(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("samples per pixel"), "{stdout}");
+    for f in ["trade.csv", "trade.md", "reference.exr", "reference.ron", "hybrid-point-final.exr", "pathtrace-final.exr"] {
+        assert!(dir.join(f).is_file(), "{f} missing: {stdout}");
+    }
+    let csv = std::fs::read_to_string(dir.join("trade.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 16, "{csv}");
+    let flip = |graph: &str, frame: &str| -> f64 { rows.iter().find(|r| r[0] == graph && r[2] == frame).map(|r| r[5].parse().unwrap()).unwrap() };
+    assert!(flip("pathtrace", "8") < flip("pathtrace", "1"), "the path tracer's error should fall: {csv}");
+    let (code, cmp, err) = glint(&["compare", &dir.join("reference.exr").to_string_lossy(), &dir.join("pathtrace-final.exr").to_string_lossy()]);
+    assert_eq!(code, 0, "{err}");
+    let compared: f64 = cmp.lines().find_map(|l| l.strip_prefix("flip_mean=")).unwrap().parse().unwrap();
+    assert!((compared - flip("pathtrace", "8")).abs() < 1e-4, "compare says {compared}, the CSV {}", flip("pathtrace", "8"));
+    // A second run finds the reference cached.
+    let (code, stdout, err) = glint(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("reference: cached"), "{stdout}");
+}

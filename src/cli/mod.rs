@@ -23,6 +23,7 @@ mod bench_cmd;
 mod converge_cmd;
 mod graph_cmd;
 mod render_cmd;
+mod trade_cmd;
 mod view_cmd;
 mod watch_cmd;
 
@@ -43,6 +44,9 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to a PNG (sRGB) or EXR (linear) file.
     Render(render_cmd::RenderArgs),
+    /// Speed against accuracy: every graph's error against a reference,
+    /// frame by frame (trade.csv, trade.md).
+    Trade(trade_cmd::TradeArgs),
     /// Bake a graph's irradiance volume alone (progress, seconds, MiB);
     /// --out saves it for `glint render --volume`.
     Bake(bake_cmd::BakeArgs),
@@ -153,6 +157,7 @@ pub fn main() -> i32 {
         Command::View(args) => view_cmd::run(args),
         Command::Machines => view_cmd::machines(),
         Command::Bake(args) => bake_cmd::run(args),
+        Command::Trade(args) => trade_cmd::run(args),
         Command::Bench { command } => bench_cmd::run(command),
         Command::Graph { command: GraphCommand::Check(args) } => graph_cmd::check(args),
         Command::Shaders { files, dir } => graph_cmd::check_shaders(files, dir),
