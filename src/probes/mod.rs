@@ -1,7 +1,9 @@
-//! Irradiance probes (issue 13), the pure half: how a direction maps to a
-//! texel of a probe's maps, and how a position maps to the probes around
-//! it. The WGSL the bake and shading passes use mirrors these functions;
-//! they are tested here without a GPU.
+//! Irradiance probes, the Rust side of the irradiance volume (README,
+//! "Global illumination"): how a direction maps to a texel of a probe's
+//! maps, how a position maps to the probes around it, and the volume file.
+//! shaders/shared/probes.wgsl mirrors the maps and the grid; they are
+//! tested here without a GPU and against the shaders in
+//! tests/probes_gpu.rs.
 //!
 //! - `mapping`: the thesis's hemisphere maps (Shirley and Chiu's
 //!   concentric square-to-disk map lifted to the hemisphere with equal
@@ -9,6 +11,8 @@
 //!   and DDGI's octahedral map of the sphere.
 //! - `grid`: a regular grid of probes over the scene's bounds and the
 //!   trilinear weights of the eight probes of a point's cell.
+//! - `volume_file`: a baked volume on disk, with a header naming its scene
+//!   and grid so a stale one is refused.
 
 pub mod grid;
 pub mod mapping;
