@@ -1,8 +1,8 @@
 //! `glint trade`: every graph against the truth. Renders each graph frame
 //! after frame and records, per frame, its milliseconds and the error of
 //! the accumulated image against a reference (FLIP mean, relMSE, PSNR);
-//! writes trade.csv, trade.md (`crate::trade`), the reference and each
-//! graph's final image into the output folder.
+//! writes trade.csv, trade.md, trade.png (`crate::trade`), the reference
+//! and each graph's final image into the output folder.
 //!
 //! Without `--reference`, the reference is `pathtrace.ron` rendered for
 //! `--reference-frames` frames (converged: its own FLIP against the same
@@ -88,9 +88,12 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
         if Timing::stamps_bracket_work(&gpu) { "GPU timestamps" } else { "wall clock, each frame waited for (this adapter's timestamps do not bracket the work)" },
         args.reference.as_ref().map_or(format!("pathtrace.ron at {} samples per pixel", args.reference_frames), |p| p.display().to_string())
     );
+    let png_path = args.out.join("trade.png");
+    crate::trade::plot::draw(&png_path, &format!("{}: error against time", args.scene.display()), &curves)
+        .map_err(|e| UserError::in_file(&png_path, format!("cannot draw the plot: {e}")))?;
     let md_path = args.out.join("trade.md");
     std::fs::write(&md_path, crate::trade::markdown("Speed against accuracy", &how, &curves)).map_err(|e| UserError::in_file(&md_path, e.to_string()))?;
-    out!("wrote {} and {}", csv_path.display(), md_path.display());
+    out!("wrote {}, {} and {}", csv_path.display(), md_path.display(), png_path.display());
     Ok(())
 }
 

@@ -8,6 +8,8 @@
 
 use std::fmt::Write;
 
+pub mod plot;
+
 /// One frame of one curve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sample {
