@@ -198,7 +198,7 @@ fn trade_measures_each_graph_against_the_reference() {
     let (code, stdout, err) = glint(&args);
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("samples per pixel"), "{stdout}");
-    for f in ["trade.csv", "trade.md", "trade.png", "reference.exr", "reference.ron", "hybrid-point-final.exr", "pathtrace-final.exr"] {
+    for f in ["trade.csv", "trade.md", "trade.png", "compare.png", "reference.exr", "reference.ron", "hybrid-point-final.exr", "pathtrace-final.exr"] {
         assert!(dir.join(f).is_file(), "{f} missing: {stdout}");
     }
     let csv = std::fs::read_to_string(dir.join("trade.csv")).unwrap();

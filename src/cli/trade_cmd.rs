@@ -1,8 +1,8 @@
 //! `glint trade`: every graph against the truth. Renders each graph frame
 //! after frame and records, per frame, its milliseconds and the error of
 //! the accumulated image against a reference (FLIP mean, relMSE, PSNR);
-//! writes trade.csv, trade.md, trade.png (`crate::trade`), the reference
-//! and each graph's final image into the output folder.
+//! writes trade.csv, trade.md, trade.png, compare.png (`crate::trade`),
+//! the reference and each graph's final image into the output folder.
 //!
 //! Without `--reference`, the reference is `pathtrace.ron` rendered for
 //! `--reference-frames` frames (converged: its own FLIP against the same
@@ -64,9 +64,12 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
         None => cached_reference(&gpu, &args)?,
     };
     let mut curves = Vec::new();
+    let mut panels = vec![crate::trade::plot::Panel { label: "reference".into(), image: image_io::to_srgb8(&reference), flip_map: None }];
     for graph in &args.graphs {
         let (curve, last) = measure(&gpu, &args, graph, &reference)?;
         image_io::save(&last, &args.out.join(format!("{}-final.exr", curve.graph)))?;
+        let (flip, map) = metrics::flip(&reference, &last);
+        panels.push(crate::trade::plot::Panel { label: curve.graph.clone(), image: image_io::to_srgb8(&last), flip_map: Some((map, f64::from(flip.mean))) });
         out!(
             "{}: {} frames, {:.1} ms in all, final FLIP {:.4}",
             curve.graph,
@@ -91,9 +94,11 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     let png_path = args.out.join("trade.png");
     crate::trade::plot::draw(&png_path, &format!("{}: error against time", args.scene.display()), &curves)
         .map_err(|e| UserError::in_file(&png_path, format!("cannot draw the plot: {e}")))?;
+    let compare_path = args.out.join("compare.png");
+    crate::trade::plot::compare(&compare_path, args.size, &panels).map_err(|e| UserError::in_file(&compare_path, format!("cannot draw the comparison: {e}")))?;
     let md_path = args.out.join("trade.md");
     std::fs::write(&md_path, crate::trade::markdown("Speed against accuracy", &how, &curves)).map_err(|e| UserError::in_file(&md_path, e.to_string()))?;
-    out!("wrote {}, {} and {}", csv_path.display(), md_path.display(), png_path.display());
+    out!("wrote {}, {}, {} and {}", csv_path.display(), md_path.display(), png_path.display(), compare_path.display());
     Ok(())
 }
 

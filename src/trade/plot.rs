@@ -94,3 +94,54 @@ fn draw_into(buffer: &mut [u8], size: (u32, u32), title: &str, curves: &[Curve],
         .map_err(|e| e.to_string())?;
     root.present().map_err(|e| e.to_string())
 }
+
+/// One column of `compare.png`: a label, an sRGB8 image and, for a graph,
+/// its FLIP map against the reference (magma) and FLIP mean.
+pub struct Panel {
+    pub label: String,
+    pub image: Vec<u8>,
+    pub flip_map: Option<(Vec<u8>, f64)>,
+}
+
+/// `compare.png`: the reference and each graph's final image side by side,
+/// each graph's FLIP map under it, labelled. Images are `size` each.
+pub fn compare(path: &Path, size: (u32, u32), panels: &[Panel]) -> Result<(), String> {
+    let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    let (w, h) = size;
+    let (label_h, gap) = (28u32, 8u32);
+    let width = panels.len() as u32 * (w + gap) + gap;
+    let height = label_h + 2 * h + 3 * gap + label_h;
+    let mut buffer = vec![255u8; (width * height * 3) as usize];
+    let mut blit = |rgb: &[u8], x0: u32, y0: u32| {
+        for y in 0..h {
+            for x in 0..w {
+                let s = ((y * w + x) * 3) as usize;
+                let d = (((y0 + y) * width + x0 + x) * 3) as usize;
+                if let (Some(src), Some(dst)) = (rgb.get(s..s + 3), buffer.get_mut(d..d + 3)) {
+                    dst.copy_from_slice(src);
+                }
+            }
+        }
+    };
+    for (i, p) in panels.iter().enumerate() {
+        let x = gap + i as u32 * (w + gap);
+        blit(&p.image, x, label_h);
+        if let Some((map, _)) = &p.flip_map {
+            blit(map, x, label_h + h + gap + label_h);
+        }
+    }
+    {
+        let root = BitMapBackend::with_buffer(&mut buffer, (width, height)).into_drawing_area();
+        let style = ("sans-serif", 15).into_font().color(&BLACK);
+        for (i, p) in panels.iter().enumerate() {
+            let x = (gap + i as u32 * (w + gap)) as i32;
+            root.draw_text(&p.label, &style, (x, 6)).map_err(|e| e.to_string())?;
+            if let Some((_, mean)) = &p.flip_map {
+                root.draw_text(&format!("FLIP {mean:.4}"), &style, (x, (label_h + h + gap + 6) as i32)).map_err(|e| e.to_string())?;
+            }
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    let image = image::RgbImage::from_raw(width, height, buffer).ok_or("the comparison buffer has the wrong size")?;
+    image.save(path).map_err(|e| e.to_string())
+}
