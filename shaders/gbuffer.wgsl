@@ -36,11 +36,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     // Two-sided surfaces: face the normals toward the viewer.
-    let flip = select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-    var n = hit.normal * flip;
-    if dot(n, rd) > 0.0 {
-        n = hit.geo_normal * flip;
-    }
+    let n = facing(hit, rd).n;
     textureStore(gbuf_pos, id.xy, vec4f(hit.position, hit.t));
     // w: the specular share, so accumulate knows what is view-dependent.
     textureStore(gbuf_normal, id.xy, vec4f(n, scene_materials[hit.material].specular));

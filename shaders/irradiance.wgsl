@@ -126,13 +126,9 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
         if hit.light >= 0 {
             return out + select(vec3f(0.0), atten * m.emission, depth > 0u);
         }
-        let flip = select(1.0, -1.0, dot(hit.geo_normal, dir) > 0.0);
-        let ng = hit.geo_normal * flip;
-        var n = hit.normal * flip;
-        if dot(n, dir) > 0.0 {
-            n = ng;
-        }
-        let next = offset_ray(hit.position, ng);
+        let f = facing(hit, dir);
+        let n = f.n;
+        let next = offset_ray(hit.position, f.ng);
         let base = m.albedo * (1.0 - m.specular);
         if max3(base) > 0.0 {
             var e = ddgi_irradiance_at(hit.position, n, -dir);

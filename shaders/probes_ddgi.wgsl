@@ -58,12 +58,9 @@ fn shade_hit(hit: Hit, dir: vec3f, rng: ptr<function, Rng>) -> vec3f {
         return select(vec3f(0.0), m.emission, params.emitters != 0u);
     }
     var out = select(vec3f(0.0), m.emission, is_emissive(m));
-    let flip = select(1.0, -1.0, dot(hit.geo_normal, dir) > 0.0);
-    let ng = hit.geo_normal * flip;
-    var n = hit.normal * flip;
-    if dot(n, dir) > 0.0 {
-        n = ng;
-    }
+    let f = facing(hit, dir);
+    let ng = f.ng;
+    let n = f.n;
     let base = m.albedo * (1.0 - m.specular);
     let o = offset_ray(hit.position, ng);
     var e = vec3f(0.0);

@@ -57,7 +57,7 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
         if m.specular <= 0.0 {
             return atten * m.albedo;
         }
-        let ng = hit.geo_normal * select(1.0, -1.0, dot(hit.geo_normal, dir) > 0.0);
+        let ng = facing(hit, dir).ng;
         atten *= m.specular * m.albedo;
         dir = reflect(dir, ng);
         origin = offset_ray(hit.position, ng);

@@ -433,6 +433,24 @@ fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     return Hit(c.t, p, gn, sn, bitcast<u32>(tri.p0.w), bitcast<u32>(tri.p1.w), -1);
 }
 
+// A hit's normals faced against the ray `rd` (surfaces are two-sided): the
+// geometric one, and the shading one, which falls back to the geometric
+// one where interpolation left it facing along the ray.
+struct Facing {
+    ng: vec3f,
+    n: vec3f,
+}
+
+fn facing(hit: Hit, rd: vec3f) -> Facing {
+    let flip = select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
+    let ng = hit.geo_normal * flip;
+    var n = hit.normal * flip;
+    if dot(n, rd) > 0.0 {
+        n = ng;
+    }
+    return Facing(ng, n);
+}
+
 // Whether anything blocks the ray in (0, tmax) (shadow rays; exits early).
 fn trace_any(ro: vec3f, rd: vec3f, tmax: f32) -> bool {
     return traverse(make_ray(ro, rd), tmax, true).prim != NO_HIT;

@@ -60,12 +60,9 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
         if hit.light >= 0 {
             break; // lights do not reflect
         }
-        let flip = select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-        let ng = hit.geo_normal * flip;
-        var n = hit.normal * flip;
-        if dot(n, rd) > 0.0 {
-            n = ng;
-        }
+        let f = facing(hit, rd);
+        let ng = f.ng;
+        let n = f.n;
         let o = offset_ray(p, ng);
         if rand_f32(rng) < m.specular {
             var dir = reflect(rd, n);

@@ -58,6 +58,8 @@ pub struct BakeArgs {
 /// What one bake measured.
 pub struct Baked {
     pub seconds: f64,
+    /// `Scene::content_hash` of the scene as loaded (for the volume file).
+    pub scene_hash: u64,
     /// The irradiance volume shading reads (thesis: (L+1)^3 2 S^2 16 bytes).
     pub volume_bytes: u64,
     /// Every persistent texture, the bake's working ones included.
@@ -81,8 +83,7 @@ pub fn run(args: BakeArgs) -> Result<(), UserError> {
         b.all_bytes as f64 / MIB
     );
     if let Some(out) = &args.out {
-        let scene = scene::load(&args.scene)?;
-        let header = b.session.volume_header(&scene_file.display().to_string(), scene.content_hash(), settings(&args))?;
+        let header = b.session.volume_header(&scene_file.display().to_string(), b.scene_hash, settings(&args))?;
         b.session.save_volume(out, header)?;
         out!("wrote {}", out.display());
     }
@@ -162,6 +163,7 @@ fn edited_graph(args: &BakeArgs) -> Result<FrameGraph, UserError> {
 /// persistent resource runs any more.
 pub fn bake(gpu: &Gpu, args: &BakeArgs, progress: bool) -> Result<Baked, UserError> {
     let scene = scene::load(&args.scene)?;
+    let scene_hash = scene.content_hash();
     let desc = edited_graph(args)?;
     let shader_dir = graph::shader_dir_for(&args.graph);
     let shaders = graph::load_shaders(&desc, &shader_dir)?;
@@ -201,21 +203,21 @@ pub fn bake(gpu: &Gpu, args: &BakeArgs, progress: bool) -> Result<Baked, UserErr
             return Err(UserError::new("the bake has not finished after 100000 frames: a progressive pass without `until`?"));
         }
     }
-    // The last frame's work is done before the clock stops.
-    let _ = session.read_output()?;
+    // Each frame was waited for: the clock stops after the last one's work.
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let bytes = |(_, _, (w, h)): &(String, crate::format::TexFormat, (u32, u32))| u64::from(*w) * u64::from(*h) * 16;
     let resources = session.executor.persistent_resources();
     let volume_bytes = resources.iter().filter(|r| r.0 == volume).map(bytes).sum();
     let all_bytes = resources.iter().map(bytes).sum();
-    Ok(Baked { seconds, volume_bytes, all_bytes, session })
+    Ok(Baked { seconds, scene_hash, volume_bytes, all_bytes, session })
 }
 
-/// Loads a saved volume into a session (`glint render --volume`).
+/// Loads a saved volume into a session that has not rendered yet (so its
+/// scene is as loaded: `glint render --volume`).
 pub fn load_into(session: &mut Session, scene_file: &Path, path: &Path) -> Result<(), UserError> {
-    let scene = scene::load(scene_file)?;
-    let header = session.volume_header(&scene_file.display().to_string(), scene.content_hash(), Vec::new())?;
+    let hash = session.scene.scene.content_hash();
+    let header = session.volume_header(&scene_file.display().to_string(), hash, Vec::new())?;
     session.load_volume(path, &header)
 }
 

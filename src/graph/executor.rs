@@ -320,9 +320,9 @@ impl Executor {
         plan
     }
 
-    /// Whether a pass that does not run every frame will run in the next
-    /// frame with the scene at `epoch`: what it writes (a probe volume)
-    /// changes, so images accumulated over earlier frames are stale.
+    /// Whether a pass that fills persistent resources on its own schedule
+    /// (a bake: not every frame, not only after its inputs) will run in the
+    /// next frame with the scene at `epoch`.
     pub fn updates_persistent(&self, epoch: u32) -> bool {
         self.schedule.passes.iter().zip(&self.runs).any(|(sp, st)| {
             sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !st.plan(sp.run, epoch, false).0.is_empty()
