@@ -18,7 +18,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         textureStore(lit, id.xy, vec4f(frame.background, 1.0));
         return;
     }
-    let m = scene_materials[ids.x];
+    let m = load_material(ids.x);
     if is_emissive(m) {
         textureStore(albedo, id.xy, vec4f(m.emission, 1.0));
         textureStore(lit, id.xy, vec4f(m.emission, 1.0));

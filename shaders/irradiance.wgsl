@@ -61,7 +61,7 @@ fn surface(id: vec3u) -> Surface {
     }
     let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - scene_materials[ids.x].specular);
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - load_material(ids.x).specular);
     return Surface(true, p, n, base, before);
 }
 
@@ -122,7 +122,7 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
         if !hit_found(hit) {
             return out + atten * frame.background;
         }
-        let m = scene_materials[hit.material];
+        let m = load_material(hit.material);
         if hit.light >= 0 {
             return out + select(vec3f(0.0), atten * m.emission, depth > 0u);
         }
@@ -134,9 +134,9 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
             var e = ddgi_irradiance_at(hit.position, n, -dir);
             // One light, picked uniformly: one shadow ray however many
             // lights there are (their sum is n times its mean).
-            if frame.n_lights > 0u {
-                let i = min(u32(rand_f32(rng) * f32(frame.n_lights)), frame.n_lights - 1u);
-                e += f32(frame.n_lights) * light_irradiance(scene_lights[i], hit.position, n, next, 1u, 0u, 0.0, rng);
+            if light_count() > 0u {
+                let i = min(u32(rand_f32(rng) * f32(light_count())), light_count() - 1u);
+                e += f32(light_count()) * light_irradiance(load_light(i), hit.position, n, next, 1u, 0u, 0.0, rng);
             }
             out += atten * base / PI * e;
         }

@@ -53,7 +53,7 @@ fn rays_per_probe(rays: vec2u) -> u32 {
 
 // The light leaving hit `hit` towards -`dir`, diffuse only.
 fn shade_hit(hit: Hit, dir: vec3f, rng: ptr<function, Rng>) -> vec3f {
-    let m = scene_materials[hit.material];
+    let m = load_material(hit.material);
     if hit.light >= 0 {
         return select(vec3f(0.0), m.emission, params.emitters != 0u);
     }
@@ -64,8 +64,8 @@ fn shade_hit(hit: Hit, dir: vec3f, rng: ptr<function, Rng>) -> vec3f {
     let base = m.albedo * (1.0 - m.specular);
     let o = offset_ray(hit.position, ng);
     var e = vec3f(0.0);
-    for (var i = 0u; i < frame.n_lights; i++) {
-        e += light_irradiance(scene_lights[i], hit.position, n, o, 1u, 0u, 0.0, rng);
+    for (var i = 0u; i < light_count(); i++) {
+        e += light_irradiance(load_light(i), hit.position, n, o, 1u, 0u, 0.0, rng);
     }
     if params.bounces != 0u {
         e += ddgi_irradiance_at(hit.position, n, -dir);

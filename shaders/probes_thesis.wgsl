@@ -50,7 +50,7 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
         if !hit_found(hit) {
             return atten * frame.background;
         }
-        let m = scene_materials[hit.material];
+        let m = load_material(hit.material);
         if is_emissive(m) {
             return select(vec3f(0.0), atten * m.emission, params.emitters != 0u || hit.light < 0);
         }

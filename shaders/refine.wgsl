@@ -34,12 +34,12 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - scene_materials[ids.x].specular);
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - load_material(ids.x).specular);
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);
-    for (var i = 0u; i < frame.n_lights; i++) {
-        let l = scene_lights[i];
+    for (var i = 0u; i < light_count(); i++) {
+        let l = load_light(i);
         if l.kind == LIGHT_SPHERE {
             direct += light_irradiance(l, p, n, o, max(params.samples, 1u), params.falloff, params.falloff_k, &rng);
         }

@@ -82,7 +82,7 @@ fn broken_graph_and_shader_name_file_and_line() {
     // A WGSL type error: the shader file and line.
     let good = std::fs::read_to_string(repo().join("passes/direct.ron")).unwrap();
     let graph = write(&dir.join("passes"), "g.ron", &good);
-    let shader = std::fs::read_to_string(repo().join("shaders/albedo.wgsl")).unwrap().replace("let m = scene_materials[ids.x];", "let m: u32 = scene_materials[ids.x];");
+    let shader = std::fs::read_to_string(repo().join("shaders/albedo.wgsl")).unwrap().replace("let m = load_material(ids.x);", "let m: u32 = load_material(ids.x);");
     let line = shader.lines().position(|l| l.contains("let m: u32")).unwrap() + 1;
     write(&dir.join("shaders"), "albedo.wgsl", &shader);
     let (code, _, err) = glint(&["graph", "check", &graph]);
@@ -214,4 +214,64 @@ fn trade_measures_each_graph_against_the_reference() {
     let (code, stdout, err) = glint(&args);
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("reference: cached"), "{stdout}");
+}
+
+#[test]
+fn trade_sweeps_settings_and_skips_the_ones_a_graph_cannot_take() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("trade-sweep");
+    let sweep = write(
+        &dir,
+        "sweep.ron",
+        r#"Sweep(settings: [
+            (name: "half", resolution_scale: 0.5),
+            (name: "generic", specialise: false, cull: false),
+            (name: "8 spp", params: { "pathtrace.spp": 8 }),
+        ])"#,
+    );
+    let out = dir.join("out").to_string_lossy().into_owned();
+    let args = ["trade", "scenes/cornell-point.ron", "--graphs", "passes/hybrid-point.ron,passes/pathtrace.ron", "--sweep", &sweep, "--size", "32x32", "--frames", "4", "--reference-frames", "16", "--out", &out];
+    let (code, stdout, err) = glint(&args);
+    assert_eq!(code, 0, "{err}");
+    // hybrid-point has no pathtrace pass: its `8 spp` is skipped, said so.
+    assert!(stdout.contains("hybrid-point.ron [8 spp]: skipped, the graph has no pass `pathtrace`"), "{stdout}");
+    let csv = std::fs::read_to_string(dir.join("out/trade.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 5 * 4, "{csv}");
+    for (graph, setting) in [("hybrid-point", "half"), ("hybrid-point", "generic"), ("pathtrace", "half"), ("pathtrace", "generic"), ("pathtrace", "8 spp")] {
+        assert_eq!(rows.iter().filter(|r| r[0] == graph && r[1] == setting).count(), 4, "{graph} [{setting}]: {csv}");
+    }
+    assert!(dir.join("out/pathtrace-8_spp-final.exr").is_file());
+    let flip = |setting: &str| -> f64 { rows.iter().find(|r| r[0] == "pathtrace" && r[1] == setting && r[2] == "4").map(|r| r[5].parse().unwrap()).unwrap() };
+    // 8 samples a frame beat 1.
+    assert!(flip("8 spp") < flip("generic"), "{csv}");
+    // A broken sweep names its file and line.
+    let bad = write(&dir, "bad.ron", "Sweep(settings: [\n  (name: \"a\", sclae: 2.0),\n])");
+    let (code, _, err) = glint(&["trade", "scenes/cornell.ron", "--graphs", "passes/pathtrace.ron", "--sweep", &bad, "--out", &out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("bad.ron:2"), "{err}");
+}
+
+#[test]
+fn bench_thesis_writes_its_report() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("thesis");
+    let out = dir.to_string_lossy().into_owned();
+    // A target no frame can meet: the stress test stops at once.
+    let (code, stdout, err) = glint(&["bench", "thesis", "--size", "16x16", "--frames", "3", "--reference-frames", "4", "--stress-target-ms", "0.001", "--out", &out]);
+    assert_eq!(code, 0, "{err}");
+    let md = std::fs::read_to_string(dir.join("thesis.md")).unwrap_or_else(|e| panic!("{e}: {stdout}"));
+    for section in ["Adapter: **", "## Table 4.1", "## Convergence speed-up", "## Post-processing", "## Light scaling", "## Stress test"] {
+        assert!(md.contains(section), "{section} missing:\n{md}");
+    }
+    // Three environments with their speed-ups for both hybrids, and the
+    // light counts multiplied (3 x env3's one light; 1, 2, 4 in the stress scene).
+    for row in ["| 1 | hybrid |", "| 3 | hybrid-gi |", "| thesis-env3.ron | 3 |", "| thesis-stress.ron | 4 |"] {
+        assert!(md.contains(row), "{row} missing:\n{md}");
+    }
+    assert!(md.contains("longer than 0.001 ms with no copies"), "{md}");
 }

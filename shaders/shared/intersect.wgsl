@@ -215,12 +215,16 @@ override BRUTE_FORCE: bool = false;
 
 fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
-    for (var i = 0u; i < frame.n_spheres; i++) {
-        if test_sphere(r, i, tmax, any_hit, &best) {
-            return best;
+    if SCENE_SPHERES {
+        for (var i = 0u; i < frame.n_spheres; i++) {
+            if test_sphere(r, i, tmax, any_hit, &best) {
+                return best;
+            }
         }
     }
-    test_triangles(r, 0u, frame.n_triangles, tmax, any_hit, &best);
+    if SCENE_MESHES {
+        test_triangles(r, 0u, frame.n_triangles, tmax, any_hit, &best);
+    }
     return best;
 }
 
@@ -370,7 +374,9 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
                 let inst = load_instance(k);
                 // No box test before a BLAS: its root's children are
                 // tested first thing, and the leaf's box bounds the root.
-                if inst.v.x == INSTANCE_MESH {
+                // A constant where the scene has instances of one kind.
+                let is_mesh = SCENE_MESHES && (!SCENE_SPHERES || inst.v.x == INSTANCE_MESH);
+                if is_mesh {
                     if traverse_blas(r, inst.v.y, tmax, any_hit, &best) {
                         return best;
                     }
@@ -416,7 +422,7 @@ fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     if c.prim == NO_HIT {
         return no_hit(tmax);
     }
-    if (c.prim & SPHERE_BIT) != 0u {
+    if SCENE_SPHERES && (!SCENE_MESHES || (c.prim & SPHERE_BIT) != 0u) {
         let s = load_sphere(c.prim & ~SPHERE_BIT);
         let n = normalize(ro + c.t * rd - s.geo.xyz);
         return Hit(c.t, s.geo.xyz + s.geo.w * n, n, n, s.ids.x, s.ids.z, bitcast<i32>(s.ids.y));

@@ -42,18 +42,18 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
         if depth == 0u {
             path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
             let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-            path_primary_normal = select(vec4f(facing, scene_materials[hit.material].specular), vec4f(0.0), !hit_found(hit));
+            path_primary_normal = select(vec4f(facing, load_material(hit.material).specular), vec4f(0.0), !hit_found(hit));
         }
         if !hit_found(hit) {
             result += throughput * frame.background;
             break;
         }
-        let m = scene_materials[hit.material];
+        let m = load_material(hit.material);
         let p = hit.position;
         if is_emissive(m) && (depth > 0u || first_emission || hit.light < 0) {
             var w = 1.0;
             if hit.light >= 0 && bsdf_pdf > 0.0 {
-                w = power_heuristic(bsdf_pdf, light_pdf(scene_lights[u32(hit.light)], prev_p));
+                w = power_heuristic(bsdf_pdf, light_pdf(load_light(u32(hit.light)), prev_p));
             }
             result += throughput * m.emission * w;
         }
@@ -64,7 +64,10 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
         let ng = f.ng;
         let n = f.n;
         let o = offset_ray(p, ng);
-        if rand_f32(rng) < m.specular {
+        // Drawn whether or not the scene has specular surfaces, so a
+        // specialised shader draws the same random numbers as a generic one.
+        let u_lobe = rand_f32(rng);
+        if SCENE_SPECULAR && u_lobe < m.specular {
             var dir = reflect(rd, n);
             if m.roughness > 0.0 {
                 dir = sample_glossy(dir, n, m.roughness, rand2(rng));
@@ -77,8 +80,8 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
             rd = dir;
         } else {
             // Next-event estimation: every light, one sample each.
-            for (var i = 0u; i < frame.n_lights; i++) {
-                let l = scene_lights[i];
+            for (var i = 0u; i < light_count(); i++) {
+                let l = load_light(i);
                 let s = sample_light(l, o, rand2(rng));
                 let cos_n = dot(n, s.dir);
                 if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 || !light_visible(o, s) {

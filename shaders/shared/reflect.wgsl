@@ -36,8 +36,8 @@ fn screen_pixel(x: vec3f) -> vec2i {
 fn shade(p: vec3f, n: vec3f, m: Material, extra: vec3f, rng: ptr<function, Rng>) -> vec3f {
     let o = offset_ray(p, n);
     var e = vec3f(0.0);
-    for (var i = 0u; i < frame.n_lights; i++) {
-        let l = scene_lights[i];
+    for (var i = 0u; i < light_count(); i++) {
+        let l = load_light(i);
         let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
         e += light_irradiance(l, p, n, o, count, 0u, 0.0, rng);
     }
@@ -72,13 +72,13 @@ fn reflect_begin(id: vec3u) -> Reflection {
     let ids = textureLoad(gbuf_id, id.xy, 0);
     var r: Reflection;
     r.color = before.rgb;
-    if !is_lit_surface(ids) || scene_materials[ids.x].specular <= 0.0 {
+    if !is_lit_surface(ids) || load_material(ids.x).specular <= 0.0 {
         r.reused = -1.0;
         r.done = true;
         return r;
     }
     r.rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
-    let m0 = scene_materials[ids.x];
+    let m0 = load_material(ids.x);
     r.p = textureLoad(gbuf_pos, id.xy, 0).xyz;
     r.n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
     r.dir = reflect(normalize(r.p - frame.camera.origin), r.n);
@@ -99,7 +99,7 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
             (*r).done = true;
             return false;
         }
-        let m = scene_materials[hit.material];
+        let m = load_material(hit.material);
         if is_emissive(m) {
             (*r).color += (*r).atten * m.emission;
             (*r).done = true;
@@ -141,7 +141,7 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
 // Adds the hit's diffuse light and follows a specular surface on.
 fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
     (*r).color += (*r).atten * diffuse;
-    let m = scene_materials[(*r).hit_m];
+    let m = load_material((*r).hit_m);
     if m.specular <= 0.0 {
         (*r).done = true;
         return;
@@ -156,7 +156,7 @@ fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
 // Shades the hit `reflect_next` stopped at, with `extra` irradiance.
 fn reflect_shade(r: ptr<function, Reflection>, extra: vec3f) {
     var rng = (*r).rng;
-    let diffuse = shade((*r).hit_p, (*r).hit_n, scene_materials[(*r).hit_m], extra, &rng);
+    let diffuse = shade((*r).hit_p, (*r).hit_n, load_material((*r).hit_m), extra, &rng);
     (*r).rng = rng;
     reflect_advance(r, diffuse);
 }

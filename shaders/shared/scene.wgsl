@@ -89,6 +89,50 @@ fn load_normals(i: u32) -> TriangleNormals {
     return TriangleNormals(n0.xyz, n0.w, n1.xyz, n1.w, n2.xyz, n2.w);
 }
 
+// Specialisation (src/scene/specialise.rs): the engine sets these per
+// scene to what it lacks, so the code for it is compiled out; the defaults
+// are right for any scene (`--no-specialise` keeps them).
+override SCENE_SPHERES: bool = true;
+override SCENE_MESHES: bool = true;
+override SCENE_POINT_LIGHTS: bool = true;
+override SCENE_AREA_LIGHTS: bool = true;
+override SCENE_SPECULAR: bool = true;
+override SCENE_ONE_LIGHT: bool = false;
+
+// How many lights the light loops visit: a constant where the scene has
+// one or none, so the loop is straight code.
+fn light_count() -> u32 {
+    if !SCENE_POINT_LIGHTS && !SCENE_AREA_LIGHTS {
+        return 0u;
+    }
+    if SCENE_ONE_LIGHT {
+        return 1u;
+    }
+    return frame.n_lights;
+}
+
+// Light i, its kind a constant where the scene has lights of one kind
+// (the other kind's code folds away).
+fn load_light(i: u32) -> Light {
+    var l = scene_lights[i];
+    if !SCENE_POINT_LIGHTS {
+        l.kind = LIGHT_SPHERE;
+    } else if !SCENE_AREA_LIGHTS {
+        l.kind = LIGHT_POINT;
+    }
+    return l;
+}
+
+// Material i, its specular share a constant 0 where no surface of the
+// scene reflects (reflection and mirror-bounce code folds away).
+fn load_material(i: u32) -> Material {
+    var m = scene_materials[i];
+    if !SCENE_SPECULAR {
+        m.specular = 0.0;
+    }
+    return m;
+}
+
 fn is_emissive(m: Material) -> bool {
     return max(m.emission.x, max(m.emission.y, m.emission.z)) > 0.0;
 }
@@ -100,5 +144,5 @@ const NO_OBJECT: u32 = 0xffffffffu;
 // Whether a G-buffer id (material, object) is a surface that light falls
 // on: a hit, and not an emitter (those show their own emission).
 fn is_lit_surface(ids: vec4u) -> bool {
-    return ids.y != NO_OBJECT && !is_emissive(scene_materials[ids.x]);
+    return ids.y != NO_OBJECT && !is_emissive(load_material(ids.x));
 }

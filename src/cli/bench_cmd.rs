@@ -28,6 +28,10 @@ pub enum BenchCommand {
     /// The thesis's tables 3.1 and 3.2: bake seconds and MiB over probe
     /// levels and samples per axis, path traced and by diffuse radiance.
     Bake(super::bake_cmd::BakeBenchArgs),
+    /// The thesis's chapter-4 results redone here (table 4.1, light
+    /// scaling, the stress test, the post-processing effect, the speed-up
+    /// against the path tracer), written to DIR/thesis.md.
+    Thesis(super::thesis_cmd::ThesisArgs),
 }
 
 
@@ -80,6 +84,7 @@ pub fn run(cmd: BenchCommand) -> Result<(), UserError> {
         BenchCommand::Stress(args) => stress(args),
         BenchCommand::Converge(args) => super::converge_cmd::run(args),
         BenchCommand::Bake(args) => super::bake_cmd::bake_tables(args),
+        BenchCommand::Thesis(args) => super::thesis_cmd::run(args),
     }
 }
 
@@ -182,8 +187,28 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
 /// Median wall milliseconds per frame of `scene` with `copies` extra copies
 /// of its first mesh, and the triangle count.
 fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usize), UserError> {
+    let scene = crate::scene::load(&args.scene)?;
+    let step = StressStep { scene_path: &args.scene, graph: &args.graph, size: args.size, frames: args.frames, brute_force: args.brute_force, edits: Default::default() };
+    stress_frame(gpu, scene, &step, copies)
+}
+
+/// One step of the stress test: the scene with `copies` copies of its
+/// first mesh, rendered with `graph`.
+pub(super) struct StressStep<'a> {
+    pub scene_path: &'a Path,
+    pub graph: &'a Path,
+    pub size: (u32, u32),
+    /// Frames timed (median), after one untimed.
+    pub frames: u32,
+    pub brute_force: bool,
+    pub edits: crate::graph::edit::GraphEdits,
+}
+
+/// The median frame milliseconds and the triangle count of `scene` with
+/// `copies` copies of its first mesh (of more than two triangles) on a grid
+/// in a cube around it, each a little smaller.
+pub(super) fn stress_frame(gpu: &Gpu, mut scene: crate::scene::Scene, args: &StressStep, copies: usize) -> Result<(f64, usize), UserError> {
     use crate::scene::{MeshShape, ObjectId, Transform};
-    let mut scene = crate::scene::load(&args.scene)?;
     let Some((shape, base, material)) = scene
         .world
         .query::<(&MeshShape, &Transform, Option<&crate::scene::MaterialId>)>()
@@ -191,7 +216,7 @@ fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usiz
         .find(|(m, _, _)| scene.meshes().get(m.mesh).is_some_and(|d| d.triangles.len() > 2))
         .map(|(m, t, mat)| (*m, *t, mat.copied()))
     else {
-        return Err(UserError::in_file(&args.scene, "the stress test needs a scene with a mesh of more than two triangles"));
+        return Err(UserError::in_file(args.scene_path, "the stress test needs a scene with a mesh of more than two triangles"));
     };
     let next_id = scene.world.query::<&ObjectId>().iter().map(|id| id.0).max().unwrap_or(0) + 1;
     // Copies on a grid in a cube around the original, each a little smaller.
@@ -208,8 +233,8 @@ fn stress_step(gpu: &Gpu, args: &StressArgs, copies: usize) -> Result<(f64, usiz
         }
     }
     let triangles = scene.triangle_count();
-    let shader_dir = graph::shader_dir_for(&args.graph);
-    let mut compiled = graph::load_and_compile(&args.graph, &shader_dir, &scene.features, &CompileOptions::default())?;
+    let shader_dir = graph::shader_dir_for(args.graph);
+    let mut compiled = graph::load_and_compile(args.graph, &shader_dir, &scene.features, &CompileOptions { edits: args.edits.clone(), ..CompileOptions::default() })?;
     if args.brute_force {
         for pass in &mut compiled.schedule.passes {
             let has = compiled.shaders.get(&pass.shader).is_some_and(|s| s.info.overrides.iter().any(|o| o.name == "BRUTE_FORCE"));

@@ -35,7 +35,7 @@ pub fn check(args: CheckArgs) -> Result<(), UserError> {
         None => SceneFeatures::all(),
     };
     let dir = args.shaders.clone().unwrap_or_else(|| graph::shader_dir_for(&args.file));
-    let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions { output: None, edits: args.edits.edits(), ..Default::default() })?;
+    let compiled = graph::load_and_compile(&args.file, &dir, &features, &CompileOptions { output: None, edits: args.edits.edits(), no_specialise: args.edits.no_specialise, no_cull: args.edits.no_cull, ..Default::default() })?;
     if args.dot {
         out_raw!("{}", report::dot(&compiled.schedule));
     } else {

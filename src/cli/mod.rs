@@ -23,7 +23,9 @@ mod bench_cmd;
 mod converge_cmd;
 mod graph_cmd;
 mod render_cmd;
+mod thesis_cmd;
 mod trade_cmd;
+mod trade_run;
 mod view_cmd;
 mod watch_cmd;
 

@@ -82,6 +82,14 @@ pub struct EditArgs {
     /// write of a resource that later passes overwrite).
     #[arg(long, value_name = "PASS")]
     pub stop_after: Option<String>,
+    /// Leave every shader generic: no override constants compiling out
+    /// what the scene lacks (`graph check --scene` lists them).
+    #[arg(long)]
+    pub no_specialise: bool,
+    /// Keep the passes whose `requires` the scene lacks (to measure what
+    /// culling saves).
+    #[arg(long)]
+    pub no_cull: bool,
 }
 
 impl EditArgs {
@@ -127,7 +135,13 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
     let mut edits = args.edits.edits();
     // The profile's params first, so a --set of the same param wins.
     edits.set = choice.params.iter().cloned().chain(edits.set).collect();
-    options.compile = CompileOptions { output: args.output.clone(), edits, keep: vec![REFLECT_REUSE.to_string()] };
+    options.compile = CompileOptions {
+        output: args.output.clone(),
+        edits,
+        keep: vec![REFLECT_REUSE.to_string()],
+        no_specialise: args.edits.no_specialise,
+        no_cull: args.edits.no_cull,
+    };
     let mut frames = FrameLoop::new(args.time, Clock::Fixed { dt: args.dt }, scene.camera);
     frames.camera_path = camera_path;
     frames.target = target;

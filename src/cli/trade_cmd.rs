@@ -10,18 +10,16 @@
 //! a header of scene hash, size, frames and engine version; a cached one
 //! whose header differs is rendered again, never used.
 
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::path::PathBuf;
 
 use clap::Args;
 
+use super::trade_run::{cached_reference, measure, ReferenceSpec, Run};
 use crate::error::UserError;
-use crate::gpu::readback::ImageF32;
 use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
-use crate::graph::CompileOptions;
-use crate::session::{check_size, Session, SessionOptions};
-use crate::trade::{Curve, Sample};
+use crate::session::check_size;
+use crate::trade::sweep::{Setting, Sweep};
 use crate::{image_io, metrics, scene};
 
 #[derive(Args, Debug)]
@@ -41,6 +39,13 @@ pub struct TradeArgs {
     /// Frames of the path-traced reference.
     #[arg(long, default_value_t = 1024)]
     pub reference_frames: u32,
+    /// Settings to render every graph with (README, "Speed against
+    /// accuracy"): param values, resolution scale, PID target, specialisation.
+    #[arg(long)]
+    pub sweep: Option<PathBuf>,
+    /// Leave every shader generic (without a sweep; a sweep says it per setting).
+    #[arg(long)]
+    pub no_specialise: bool,
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -49,6 +54,15 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     if args.frames == 0 || args.reference_frames < 2 {
         return Err(UserError::new("--frames must be at least 1 and --reference-frames at least 2"));
     }
+    let settings = match &args.sweep {
+        Some(path) => {
+            if args.no_specialise {
+                return Err(UserError::new("--no-specialise with --sweep: say `specialise: false` in the sweep's settings instead"));
+            }
+            Sweep::load(path)?.settings
+        }
+        None => vec![Setting { specialise: !args.no_specialise, ..Setting::plain() }],
+    };
     std::fs::create_dir_all(&args.out).map_err(|e| UserError::in_file(&args.out, format!("cannot create the folder: {e}")))?;
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
@@ -61,18 +75,30 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
             image_io::save(&img, &args.out.join("reference.exr"))?;
             img
         }
-        None => cached_reference(&gpu, &args)?,
+        None => {
+            // The path tracer beside the first graph (passes/ as shipped).
+            let pathtracer = args.graphs.first().and_then(|g| g.parent()).map_or(PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron"));
+            let spec = ReferenceSpec { scene: &args.scene, size: args.size, frames: args.reference_frames, dir: &args.out, stem: "reference", pathtracer: &pathtracer };
+            cached_reference(&gpu, &spec)?
+        }
     };
     let mut curves = Vec::new();
     let mut panels = vec![crate::trade::plot::Panel { label: "reference".into(), image: image_io::to_srgb8(&reference), flip_map: None }];
-    for graph in &args.graphs {
-        let (curve, last) = measure(&gpu, &args, graph, &reference)?;
-        image_io::save(&last, &args.out.join(format!("{}-final.exr", curve.graph)))?;
+    for (graph, setting) in args.graphs.iter().flat_map(|g| settings.iter().map(move |s| (g, s))) {
+        let desc = crate::graph::FrameGraph::load(graph)?;
+        if let Some(missing) = setting.passes().into_iter().find(|p| !desc.passes.iter().any(|q| q.name == *p)) {
+            out!("{} [{}]: skipped, the graph has no pass `{missing}`", graph.display(), setting.name);
+            continue;
+        }
+        let run = Run::new(&gpu, scene::load(&args.scene)?, graph, setting, args.size)?;
+        let (curve, last) = measure(run, args.frames, &reference)?;
+        let file = if setting.name.is_empty() { format!("{}-final.exr", curve.graph) } else { format!("{}-{}-final.exr", curve.graph, file_safe(&setting.name)) };
+        image_io::save(&last, &args.out.join(file))?;
         let (flip, map) = metrics::flip(&reference, &last);
-        panels.push(crate::trade::plot::Panel { label: curve.graph.clone(), image: image_io::to_srgb8(&last), flip_map: Some((map, f64::from(flip.mean))) });
+        panels.push(crate::trade::plot::Panel { label: curve.label(), image: image_io::to_srgb8(&last), flip_map: Some((map, f64::from(flip.mean))) });
         out!(
             "{}: {} frames, {:.1} ms in all, final FLIP {:.4}",
-            curve.graph,
+            curve.label(),
             curve.samples.len(),
             curve.samples.last().map_or(0.0, |s| s.cum_ms),
             curve.samples.last().map_or(f64::NAN, |s| s.flip)
@@ -102,105 +128,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     Ok(())
 }
 
-fn session_for(gpu: &Gpu, scene_path: &Path, graph: &Path, size: (u32, u32), seed: u32) -> Result<Session, UserError> {
-    let scene = scene::load(scene_path)?;
-    let mut options = SessionOptions::new(size);
-    options.seed = seed;
-    options.compile = CompileOptions::default();
-    Session::new(gpu, scene, graph, options)
-}
-
-/// Renders `graph` frame after frame; each frame's time (GPU timestamps
-/// where they bracket the work, else the wall clock around a frame that is
-/// waited for) and its error. The readback is not timed.
-fn measure(gpu: &Gpu, args: &TradeArgs, graph: &Path, reference: &ImageF32) -> Result<(Curve, ImageF32), UserError> {
-    let name = graph.file_stem().map_or("graph".into(), |s| s.to_string_lossy().into_owned());
-    let mut session = session_for(gpu, &args.scene, graph, args.size, 1)?;
-    let gpu_timed = Timing::stamps_bracket_work(gpu);
-    session.timing = if gpu_timed { Timing::Gpu } else { Timing::None };
-    let bar = indicatif::ProgressBar::new(u64::from(args.frames));
-    let mut samples = Vec::new();
-    let mut cum = 0.0;
-    let mut last = ImageF32::new(1, 1);
-    for frame in 1..=args.frames {
-        let start = Instant::now();
-        session.frame(0.0);
-        session.gpu.wait();
-        let wall = start.elapsed().as_secs_f64() * 1e3;
-        let ms = if gpu_timed { session.finish().last().map_or(wall, |t| t.total()) } else { wall };
-        cum += ms;
-        last = session.read_output()?;
-        let (flip, _) = metrics::flip(reference, &last);
-        samples.push(Sample {
-            graph: name.clone(),
-            setting: String::new(),
-            frame,
-            ms,
-            cum_ms: cum,
-            flip: f64::from(flip.mean),
-            relmse: metrics::rel_mse(reference, &last),
-            psnr: metrics::psnr(reference, &last),
-        });
-        bar.set_position(u64::from(frame));
-    }
-    bar.finish_and_clear();
-    Ok((Curve { graph: name, setting: String::new(), samples }, last))
-}
-
-/// What a cached reference was rendered from.
-#[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-struct ReferenceKey {
-    scene_hash: u64,
-    size: (u32, u32),
-    frames: u32,
-    engine: String,
-}
-
-/// The path tracer's converged image, from the cache in the output folder
-/// when its key matches, else rendered (with a progress bar) and cached.
-fn cached_reference(gpu: &Gpu, args: &TradeArgs) -> Result<ImageF32, UserError> {
-    let key = ReferenceKey {
-        scene_hash: scene::load(&args.scene)?.content_hash(),
-        size: args.size,
-        frames: args.reference_frames,
-        engine: format!("glint {}", env!("CARGO_PKG_VERSION")),
-    };
-    let image_path = args.out.join("reference.exr");
-    let key_path = args.out.join("reference.ron");
-    let cached = std::fs::read_to_string(&key_path).ok().and_then(|t| ron::from_str::<ReferenceKey>(&t).ok());
-    if cached.as_ref() == Some(&key) {
-        if let Ok(img) = image_io::load(&image_path) {
-            out!("reference: cached {} ({} samples per pixel)", image_path.display(), key.frames);
-            return Ok(img);
-        }
-    } else if cached.is_some() {
-        out!("reference: the cached one is stale (scene, size, frames or engine changed); rendering again");
-    }
-    // The path tracer beside the first graph (passes/ as shipped).
-    let graph = args.graphs.first().and_then(|g| g.parent()).map_or(PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron"));
-    let mut session = session_for(gpu, &args.scene, &graph, args.size, 7)?;
-    let bar = indicatif::ProgressBar::new(u64::from(args.reference_frames));
-    bar.set_style(indicatif::ProgressStyle::with_template("reference {bar:40} {pos}/{len} frames (eta {eta})").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
-    let mut half = None;
-    for f in 1..=args.reference_frames {
-        session.frame(0.0);
-        if f == args.reference_frames / 2 {
-            half = Some(session.read_output()?);
-        }
-        bar.set_position(u64::from(f));
-    }
-    bar.finish_and_clear();
-    let img = session.read_output()?;
-    if let Some(h) = half {
-        let (flip, _) = metrics::flip(&img, &h);
-        out!(
-            "reference: pathtrace.ron, {} samples per pixel; at half of them it was FLIP {:.4} from the final image (how converged it is)",
-            args.reference_frames,
-            flip.mean
-        );
-    }
-    image_io::save(&img, &image_path)?;
-    let text = ron::to_string(&key).map_err(|e| UserError::new(e.to_string()))?;
-    std::fs::write(&key_path, text).map_err(|e| UserError::in_file(&key_path, e.to_string()))?;
-    Ok(img)
+/// A setting's name as part of a file name.
+fn file_safe(name: &str) -> String {
+    name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }

@@ -101,7 +101,8 @@ fn layout_entry(b: &ResolvedBinding) -> wgpu::BindGroupLayoutEntry {
 
 /// The constants a pass's pipeline is built with: the graph's, then the
 /// engine's defaults for overrides the shader declares and the graph left
-/// unset (e.g. `FLAT_SCENE`, chosen from the scene).
+/// unset (`FLAT_SCENE` and the schedule's specialisations, chosen from the
+/// scene).
 pub fn pass_constants(sp: &ScheduledPass, shader: &Shader, engine: &[(&str, f64)]) -> Vec<(String, f64)> {
     let mut constants = sp.constants.clone();
     for (name, value) in engine {
@@ -140,12 +141,14 @@ impl PipelineCache {
         let mut per_pass = Vec::new();
         let mut built = Vec::new();
         let mut cache = PipelineCache::default();
+        let mut engine = engine.to_vec();
+        engine.extend(graph.schedule.specialisations.iter().map(|s| s.as_constant()));
         for sp in &graph.schedule.passes {
             let shader = graph
                 .shaders
                 .get(&sp.shader)
                 .ok_or_else(|| UserError::new(format!("pass `{}`: shader {} was not loaded", sp.name, sp.shader)))?;
-            let constants = pass_constants(sp, shader, engine);
+            let constants = pass_constants(sp, shader, &engine);
             let k = key(sp, shader, &constants);
             let p = match cache.entries.get(&k).or_else(|| self.entries.get(&k)) {
                 Some(p) => Arc::clone(p),

@@ -57,6 +57,13 @@ pub fn text(s: &Schedule, screen: (u32, u32)) -> String {
         };
         let _ = writeln!(o, "  {}: {why}", c.name);
     }
+    let _ = writeln!(o, "\nspecialised (override constants, for every shader that declares them):");
+    if s.specialisations.is_empty() {
+        let _ = writeln!(o, "  (none: generic shaders)");
+    }
+    for sp in &s.specialisations {
+        let _ = writeln!(o, "  {} = {}: {}", sp.constant, sp.value, sp.reason);
+    }
     let _ = writeln!(o, "\nresources (version: texture, produced at .. last read at):");
     for v in &s.versions {
         let at = |x: Option<usize>| x.map(|i| i.to_string()).unwrap_or_else(|| "-".into());

@@ -214,6 +214,9 @@ pub struct Schedule {
     pub kept: Vec<String>,
     /// The graph's probe grid, after edits.
     pub probes: Option<ProbesDesc>,
+    /// Override constants from what the scene lacks, given to every shader
+    /// that declares them (empty with `--no-specialise`).
+    pub specialisations: Vec<crate::scene::specialise::Specialisation>,
 }
 
 /// Memory figures for a schedule at a given render size.

@@ -45,6 +45,8 @@ pub struct SceneFeatures {
     pub specular: bool,
     pub emissive: bool,
     pub motion: bool,
+    /// How many lights (point and sphere); `u32::MAX` in `all()`.
+    pub lights: u32,
 }
 
 impl SceneFeatures {
@@ -58,6 +60,7 @@ impl SceneFeatures {
             specular: true,
             emissive: true,
             motion: true,
+            lights: u32::MAX,
         }
     }
 

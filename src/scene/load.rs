@@ -227,6 +227,7 @@ impl<'a, 'l> Builder<'a, 'l> {
         let (specular, emissive) = self.used_material_features();
         features.specular = specular;
         features.emissive = emissive;
+        features.lights = u32::try_from(desc.lights.len()).unwrap_or(u32::MAX);
         let c = &desc.camera;
         Ok(Scene {
             world: self.world,

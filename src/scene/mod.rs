@@ -16,9 +16,11 @@ pub mod features;
 pub mod gpu_types;
 mod load;
 mod locate;
+mod more_lights;
 mod obj;
 mod pack;
 mod schema;
+pub mod specialise;
 mod validate;
 mod world;
 

@@ -700,3 +700,27 @@ fn truncated_scenes_never_panic() {
         );
     }
 }
+
+#[test]
+fn multiplied_lights_are_copies_beside_the_originals() {
+    let mut s = shipped("cornell.ron");
+    let before = s.pack();
+    assert_eq!((before.lights.len(), s.features.lights), (1, 1));
+    assert_eq!(s.multiply_lights(3), 2);
+    assert_eq!(s.features.lights, 3);
+    let after = s.pack();
+    assert_eq!(after.lights.len(), 3);
+    // Sphere lights are spheres rays hit: two more, as bright, each with
+    // its own light index, beside the original and not on it.
+    assert_eq!(after.spheres.len(), before.spheres.len() + 2);
+    let l0 = after.lights[0];
+    for l in &after.lights[1..] {
+        assert_eq!((l.color, l.radius, l.kind), (l0.color, l0.radius, l0.kind));
+        let d = (Vec3::from(l.position) - Vec3::from(l0.position)).length();
+        assert!(d > 3.9 * l0.radius && d < 4.1 * l0.radius, "{d}");
+        // The light under the ceiling stays under it (copies spread across
+        // the line from the box's centre, here horizontally).
+        assert!((l.position[1] - l0.position[1]).abs() < 1e-5);
+    }
+    assert_eq!(s.multiply_lights(1), 0);
+}

@@ -9,6 +9,7 @@
 use std::fmt::Write;
 
 pub mod plot;
+pub mod sweep;
 
 /// One frame of one curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,6 +57,49 @@ impl Curve {
         let t = last.cum_ms / 1e3;
         (last.relmse > 0.0 && t > 0.0).then(|| 1.0 / (last.relmse * t))
     }
+}
+
+/// How much sooner one graph reaches an error than another (the thesis's
+/// "convergence speed-up", made exact): the FLIP mean `fast` settles at
+/// (the best it reached, plus `SETTLE_MARGIN`, so a level it holds rather
+/// than one lucky frame's), and the cumulative times the two first reach it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedUp {
+    pub flip: f64,
+    pub fast_ms: f64,
+    /// None: `slow` never got there in its frames (then `slow_total_ms`
+    /// bounds the speed-up from below).
+    pub slow_ms: Option<f64>,
+    pub slow_total_ms: f64,
+}
+
+/// The share above its best FLIP at which a curve counts as settled.
+pub const SETTLE_MARGIN: f64 = 0.1;
+
+impl SpeedUp {
+    /// slow_ms / fast_ms; below 1 where `slow` is in fact faster.
+    pub fn ratio(&self) -> Option<f64> {
+        self.slow_ms.map(|s| s / self.fast_ms)
+    }
+
+    /// The ratio in words: "12.3x", or "> 40x" when `slow` never got there.
+    pub fn describe(&self) -> String {
+        match self.ratio() {
+            Some(r) => format!("{r:.2}x"),
+            None => format!("> {:.1}x", self.slow_total_ms / self.fast_ms),
+        }
+    }
+}
+
+/// The speed-up of `fast` over `slow` at the FLIP `fast` settles at; None
+/// when `fast` has no finite error.
+pub fn speed_up(fast: &Curve, slow: &Curve) -> Option<SpeedUp> {
+    let best = fast.samples.iter().map(|s| s.flip).filter(|f| f.is_finite()).fold(f64::INFINITY, f64::min);
+    if !best.is_finite() {
+        return None;
+    }
+    let flip = best * (1.0 + SETTLE_MARGIN);
+    Some(SpeedUp { flip, fast_ms: fast.time_to(flip)?, slow_ms: slow.time_to(flip), slow_total_ms: slow.samples.last().map_or(0.0, |s| s.cum_ms) })
 }
 
 /// The CSV `trade.csv` holds: one row per curve and frame.
@@ -157,6 +201,26 @@ mod tests {
             })
             .collect();
         Curve { graph: graph.into(), setting: String::new(), samples }
+    }
+
+    #[test]
+    fn speed_up_is_the_ratio_of_times_to_the_level_the_fast_curve_settles_at() {
+        // Settles at 0.1 (best 0.1, plus 10%: 0.11), reached at 20 ms.
+        let fast = curve("hybrid", &[(10.0, 0.3), (10.0, 0.105), (10.0, 0.1)]);
+        let slow = curve("pt", &[(5.0, 0.5), (5.0, 0.3), (90.0, 0.2), (100.0, 0.11)]);
+        let s = speed_up(&fast, &slow).unwrap();
+        assert!((s.flip - 0.11).abs() < 1e-12);
+        assert_eq!((s.fast_ms, s.slow_ms), (20.0, Some(200.0)));
+        assert_eq!(s.describe(), "10.00x");
+        // A slow curve that never gets there bounds the speed-up from below.
+        let never = curve("pt", &[(50.0, 0.5), (50.0, 0.4)]);
+        let s = speed_up(&fast, &never).unwrap();
+        assert_eq!((s.ratio(), s.describe()), (None, "> 5.0x".to_string()));
+        // A "slow" curve that is faster gives a ratio below 1.
+        let quick = curve("pt", &[(2.0, 0.05)]);
+        assert_eq!(speed_up(&fast, &quick).unwrap().ratio(), Some(0.1));
+        // No finite error: no speed-up.
+        assert!(speed_up(&curve("x", &[(1.0, f64::NAN)]), &slow).is_none());
     }
 
     #[test]

@@ -143,6 +143,7 @@ pub(super) fn emit_schedule(
         flips_parity,
         kept: Vec::new(),
         probes: desc.probes,
+        specialisations: Vec::new(),
     }
 }
 

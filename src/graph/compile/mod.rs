@@ -107,6 +107,12 @@ pub struct CompileOptions {
     /// ends, so the engine can read it back for stats. Absent or unwritten
     /// ones are ignored.
     pub keep: Vec<String>,
+    /// Leave every shader generic: no override constants from the scene's
+    /// features (`--no-specialise`; see scene::specialise).
+    pub no_specialise: bool,
+    /// Keep the passes whose `requires` the scene lacks (`--no-cull`: to
+    /// measure what culling saves; they run on a scene without their work).
+    pub no_cull: bool,
 }
 
 /// What one binding of a validated pass refers to.
@@ -184,7 +190,8 @@ pub fn compile(
         ));
     }
     let writers = writers_of(&plans);
-    let (plans, mut culled) = cull_by_requires(plans, features, desc.probes.map(|p| p.mode));
+    let cull_for = if options.no_cull { SceneFeatures::all() } else { *features };
+    let (plans, mut culled) = cull_by_requires(plans, &cull_for, desc.probes.map(|p| p.mode));
     let mut versions = assign_versions(desc, &plans, &writers, &culled)?;
     check_output_written(&writers, &versions, &culled, &output)?;
     let (plans, unreachable) = cull_unreachable(desc, plans, &mut versions, &output);
@@ -198,6 +205,9 @@ pub fn compile(
     let (textures, group_refs) = assign_textures(desc, &versions, &groups, &lifetimes);
     let mut schedule = emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output);
     schedule.kept = kept.iter().map(|r| r.to_string()).collect();
+    if !options.no_specialise {
+        schedule.specialisations = crate::scene::specialise::specialisations(features);
+    }
     Ok(schedule)
 }
 

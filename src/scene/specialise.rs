@@ -1,0 +1,123 @@
+//! Shader specialisation: what a scene lacks, as pipeline override
+//! constants that compile the code for it out of every shader.
+//!
+//! The constants are declared in `shaders/shared/scene.wgsl`, with
+//! defaults that are right for any scene (the generic shader). A pass gets
+//! the ones its shader declares, unless its graph sets them itself. CPU
+//! drivers run every path of a shader under a SIMD mask, taken or not, so
+//! code a scene cannot reach still costs time there; on a GPU it costs
+//! registers. Compile decides them (`Schedule::specialisations`), and
+//! `glint graph check --scene` prints them with their reasons;
+//! `--no-specialise` leaves every shader generic.
+
+use super::features::SceneFeatures;
+
+/// One override constant set away from its generic default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Specialisation {
+    pub constant: &'static str,
+    pub value: bool,
+    /// Why, in words, for `graph check`.
+    pub reason: &'static str,
+}
+
+impl Specialisation {
+    /// The value as a pipeline constant.
+    pub fn as_constant(&self) -> (&'static str, f64) {
+        (self.constant, f64::from(u8::from(self.value)))
+    }
+}
+
+/// Whether rays can hit spheres (sphere objects or sphere lights).
+pub const SCENE_SPHERES: &str = "SCENE_SPHERES";
+/// Whether rays can hit triangles (meshes and quads).
+pub const SCENE_MESHES: &str = "SCENE_MESHES";
+pub const SCENE_POINT_LIGHTS: &str = "SCENE_POINT_LIGHTS";
+pub const SCENE_AREA_LIGHTS: &str = "SCENE_AREA_LIGHTS";
+/// Whether any surface is specular (reflects: reflection depth above 0).
+pub const SCENE_SPECULAR: &str = "SCENE_SPECULAR";
+/// Exactly one light: the light loops become straight code.
+pub const SCENE_ONE_LIGHT: &str = "SCENE_ONE_LIGHT";
+
+/// Every constant this module may set, with its generic default.
+pub const GENERIC: [(&str, bool); 6] = [
+    (SCENE_SPHERES, true),
+    (SCENE_MESHES, true),
+    (SCENE_POINT_LIGHTS, true),
+    (SCENE_AREA_LIGHTS, true),
+    (SCENE_SPECULAR, true),
+    (SCENE_ONE_LIGHT, false),
+];
+
+/// The specialisations for a scene with `f`: only the constants that
+/// differ from the generic default, in `GENERIC`'s order.
+pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
+    let mut out = Vec::new();
+    let mut off = |constant, reason| out.push(Specialisation { constant, value: false, reason });
+    if !f.spheres && !f.area_lights {
+        off(SCENE_SPHERES, "no spheres or sphere lights: sphere tests compiled out");
+    }
+    if !f.meshes {
+        off(SCENE_MESHES, "no meshes or quads: triangle tests and mesh traversal compiled out");
+    }
+    if !f.point_lights {
+        off(SCENE_POINT_LIGHTS, "no point lights: point-light shading compiled out");
+    }
+    if !f.area_lights {
+        off(SCENE_AREA_LIGHTS, "no sphere lights: area-light sampling compiled out");
+    }
+    if !f.specular {
+        off(SCENE_SPECULAR, "no specular material: reflection depth 0, mirror bounces compiled out");
+    }
+    if f.lights == 1 {
+        out.push(Specialisation { constant: SCENE_ONE_LIGHT, value: true, reason: "one light: no light loop" });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(f: &SceneFeatures) -> Vec<(&'static str, bool)> {
+        specialisations(f).iter().map(|s| (s.constant, s.value)).collect()
+    }
+
+    #[test]
+    fn a_scene_with_everything_is_generic() {
+        assert!(specialisations(&SceneFeatures::all()).is_empty());
+        let mut f = SceneFeatures::all();
+        f.lights = 2;
+        assert!(specialisations(&f).is_empty());
+    }
+
+    #[test]
+    fn what_a_scene_lacks_is_compiled_out() {
+        // The Cornell box with a point light and no mirror.
+        let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true)]);
+        // A sphere light is a sphere rays can hit.
+        let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false)]);
+        // Only spheres and a point light: no triangles.
+        let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false)]);
+    }
+
+    #[test]
+    fn an_empty_scene_has_every_specialisation_but_one_light() {
+        let got = names(&SceneFeatures::default());
+        let want: Vec<_> = GENERIC.iter().filter(|(c, _)| *c != SCENE_ONE_LIGHT).map(|(c, v)| (*c, !v)).collect();
+        assert_eq!(got, want);
+    }
+
+    #[test]
+    fn every_specialisation_flips_a_generic_default() {
+        let f = SceneFeatures { lights: 1, ..Default::default() };
+        for s in specialisations(&f) {
+            let generic = GENERIC.iter().find(|(c, _)| *c == s.constant).map(|(_, v)| *v);
+            assert_eq!(generic, Some(!s.value), "{}", s.constant);
+            assert!(!s.reason.is_empty());
+        }
+    }
+}
