@@ -110,6 +110,11 @@ impl Run {
         Ok(())
     }
 
+    /// The accumulated image now, as rendered (not rescaled).
+    pub fn read(&self) -> Result<ImageF32, UserError> {
+        self.session.read_output()
+    }
+
     /// The frame times so far, in order.
     pub fn frame_ms(&self) -> Vec<f64> {
         self.samples.iter().map(|s| s.ms).collect()

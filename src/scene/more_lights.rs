@@ -7,9 +7,10 @@ use super::world::{Light, LightIndex, MaterialId, ObjectId, Scene, Transform};
 
 impl Scene {
     /// Gives the scene `factor` times its lights: each light gets
-    /// `factor - 1` static copies, as bright, on a circle around it in the
-    /// plane across the line from the scene's centre (so they stay on the
-    /// same side of the walls), at 4 radii or 5% of the scene's size,
+    /// `factor - 1` static copies, as bright, beside it: in a horizontal
+    /// row across the line from the scene's centre (+s, -s, +2s, ...), so a
+    /// ceiling light's copies stay under the ceiling and a light outside a
+    /// wall stays outside it; s is 4 radii or 5% of the scene's size,
     /// whichever is more. Returns how many lights it added.
     pub fn multiply_lights(&mut self, factor: u32) -> u32 {
         if factor <= 1 {
@@ -28,13 +29,14 @@ impl Scene {
                 Light::Point { .. } => 0.0,
             };
             let spread = (4.0 * radius).max(0.05 * extent);
-            let out = (t.translation - center).try_normalize().unwrap_or(DVec3::Y);
-            let a = out.any_orthonormal_vector();
-            let b = out.cross(a);
+            // Up is the camera's (+y in every shipped scene).
+            let up = self.camera.up.as_dvec3().try_normalize().unwrap_or(DVec3::Y);
+            let away = t.translation - center;
+            let across = up.cross(away - up * away.dot(up)).try_normalize().unwrap_or_else(|| up.any_orthonormal_vector());
             for k in 1..factor {
-                let angle = std::f64::consts::TAU * f64::from(k - 1) / f64::from(factor - 1);
+                let step = f64::from(k.div_ceil(2)) * if k % 2 == 1 { 1.0 } else { -1.0 };
                 let mut copy = t;
-                copy.translation = t.translation + spread * (angle.cos() * a + angle.sin() * b);
+                copy.translation = t.translation + spread * step * across;
                 let e = self.world.spawn((ObjectId(next_id), LightIndex(next_index), copy, light));
                 if let Some(m) = material {
                     let _ = self.world.insert_one(e, m);
