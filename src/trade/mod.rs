@@ -150,7 +150,7 @@ pub fn markdown(title: &str, how: &str, curves: &[Curve]) -> String {
         let first = c.samples.first().map_or("-".into(), |s| format!("{:.3} ({:.1} ms)", s.flip, s.cum_ms));
         let _ = write!(o, "| {} | {first} |", c.label());
         for b in BUDGETS_MS {
-            let v = c.at_budget(b).map_or("-".into(), |s| format!("{:.3} ({} frames)", s.flip, s.frame));
+            let v = c.at_budget(b).map_or("-".into(), |s| format!("{:.3} ({} frame{})", s.flip, s.frame, if s.frame == 1 { "" } else { "s" }));
             let _ = write!(o, " {v} |");
         }
         o.push('\n');
