@@ -39,6 +39,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let n = facing(hit, rd).n;
     textureStore(gbuf_pos, id.xy, vec4f(hit.position, hit.t));
     // w: the specular share, so accumulate knows what is view-dependent.
-    textureStore(gbuf_normal, id.xy, vec4f(n, load_material(hit.material).specular));
+    textureStore(gbuf_normal, id.xy, vec4f(n, material_specular(hit.material)));
     textureStore(gbuf_id, id.xy, vec4u(hit.material, hit.object, 0u, 0u));
 }

@@ -61,7 +61,7 @@ fn surface(id: vec3u) -> Surface {
     }
     let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - load_material(ids.x).specular);
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - material_specular(ids.x));
     return Surface(true, p, n, base, before);
 }
 

@@ -41,7 +41,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
     // The diffuse share of the surface; the specular share is the
     // reflections pass's to shade.
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - load_material(ids.x).specular);
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - material_specular(ids.x));
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2

@@ -34,7 +34,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - load_material(ids.x).specular);
+    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - material_specular(ids.x));
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);

@@ -42,7 +42,7 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
         if depth == 0u {
             path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
             let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-            path_primary_normal = select(vec4f(facing, load_material(hit.material).specular), vec4f(0.0), !hit_found(hit));
+            path_primary_normal = select(vec4f(facing, material_specular(hit.material)), vec4f(0.0), !hit_found(hit));
         }
         if !hit_found(hit) {
             result += throughput * frame.background;

@@ -72,7 +72,7 @@ fn reflect_begin(id: vec3u) -> Reflection {
     let ids = textureLoad(gbuf_id, id.xy, 0);
     var r: Reflection;
     r.color = before.rgb;
-    if !is_lit_surface(ids) || load_material(ids.x).specular <= 0.0 {
+    if !is_lit_surface(ids) || material_specular(ids.x) <= 0.0 {
         r.reused = -1.0;
         r.done = true;
         return r;

@@ -133,6 +133,16 @@ fn load_material(i: u32) -> Material {
     return m;
 }
 
+// Material i's specular share alone, for the per-pixel passes that need
+// no more of it: one load (storage loads cost per component on CPU
+// drivers), none where no surface of the scene reflects.
+fn material_specular(i: u32) -> f32 {
+    if !SCENE_SPECULAR {
+        return 0.0;
+    }
+    return scene_materials[i].specular;
+}
+
 fn is_emissive(m: Material) -> bool {
     return max(m.emission.x, max(m.emission.y, m.emission.z)) > 0.0;
 }

@@ -261,7 +261,7 @@ fn post_processing(gpu: &Gpu, args: &ThesisArgs, paths: &Paths, env: &Path, n: u
     let curves: Vec<Curve> = runs.into_iter().map(|r| r.finish().0).collect();
     let to = |c: &Curve, flip: f64| -> String {
         c.samples.iter().find(|s| s.flip <= flip).map_or(format!("not in {} frames", c.samples.len()), |s| {
-            format!("{:.0} ms, {} frame{}", s.cum_ms, s.frame, if s.frame == 1 { "" } else { "s" })
+            format!("{:.0} ms, {}", s.cum_ms, crate::trade::frames_text(s.frame))
         })
     };
     let (with, without) = (&curves[0], &curves[1]);

@@ -150,7 +150,7 @@ pub fn markdown(title: &str, how: &str, curves: &[Curve]) -> String {
         let first = c.samples.first().map_or("-".into(), |s| format!("{:.3} ({:.1} ms)", s.flip, s.cum_ms));
         let _ = write!(o, "| {} | {first} |", c.label());
         for b in BUDGETS_MS {
-            let v = c.at_budget(b).map_or("-".into(), |s| format!("{:.3} ({} frame{})", s.flip, s.frame, if s.frame == 1 { "" } else { "s" }));
+            let v = c.at_budget(b).map_or("-".into(), |s| format!("{:.3} ({})", s.flip, frames_text(s.frame)));
             let _ = write!(o, " {v} |");
         }
         o.push('\n');
@@ -180,6 +180,11 @@ pub fn markdown(title: &str, how: &str, curves: &[Curve]) -> String {
         }
     }
     o
+}
+
+/// "1 frame", "5 frames".
+pub fn frames_text(n: u32) -> String {
+    if n == 1 { "1 frame".into() } else { format!("{n} frames") }
 }
 
 fn budget_name(ms: f64) -> String {
