@@ -119,8 +119,16 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> Histor
     var compensation = vec3f(0.0);
     var count = 0xffffffffu;
     var weight = 0.0;
-    for (var k = 0; k < 4; k++) {
-        let d = vec2i(k & 1, k >> 1);
+    // Only the taps with weight: one for a still camera or a whole-pixel
+    // shift, two or four otherwise. The count is multiplied by a uniform
+    // the compiler cannot know (1), which keeps this a loop: a loop with a
+    // small known bound is unrolled into ifs, and CPU drivers run every if
+    // under a lane mask, taken or not, while a loop runs only as many
+    // trips as its busiest SIMD lane needs.
+    let nx = select(1u, 2u, f.x > 0.0);
+    let taps = nx * select(1u, 2u, f.y > 0.0) * u32(frame.exact_one);
+    for (var k = 0u; k < taps; k++) {
+        let d = vec2i(i32(k % nx), i32(k / nx));
         let q = i0 + d;
         let w = select(1.0 - f.x, f.x, d.x == 1) * select(1.0 - f.y, f.y, d.y == 1);
         if w <= 0.0 || any(q < vec2i(0)) || any(q >= size) {

@@ -2,6 +2,7 @@
 // samples of every sphere light and merge them with the frame's estimate
 // (made with `base_samples` per light) by sample count.
 #import lights
+#import work_list
 
 struct Params {
     samples: u32, // ui: 1..64 limit "extra samples"
@@ -21,17 +22,30 @@ struct Params {
 
 const SALT: u32 = 0x72656669u;
 
+// Per texel: lists the masked texels for `listed` (the graph's `listed:`
+// entry), which alone take the extra samples; the others pass through.
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let before = textureLoad(lit_in, id.xy, 0);
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if textureLoad(mask, id.xy, 0).x < 0.5 || !is_lit_surface(ids) {
-        textureStore(lit, id.xy, before);
+    if textureLoad(mask, id.xy, 0).x >= 0.5 && is_lit_surface(ids) {
+        work_list_push(id.xy);
+    } else {
+        textureStore(lit, id.xy, textureLoad(lit_in, id.xy, 0));
+    }
+}
+
+@compute @workgroup_size(64)
+fn listed(@builtin(global_invocation_id) gid: vec3u) {
+    let t = work_list_texel(gid.x);
+    if t.z == 0u {
         return;
     }
+    let id = vec3u(t.xy, 0u);
+    let before = textureLoad(lit_in, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy, 0);
     let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
     let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - material_specular(ids.x));

@@ -8,6 +8,17 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
+    reflect_select(id);
+}
+
+// Over the texels `main` listed (the graph's `listed:` entry).
+@compute @workgroup_size(64)
+fn listed(@builtin(global_invocation_id) gid: vec3u) {
+    let t = work_list_texel(gid.x);
+    if t.z == 0u {
+        return;
+    }
+    let id = vec3u(t.xy, 0u);
     var r = reflect_begin(id);
     while reflect_next(&r) {
         reflect_shade(&r, ddgi_irradiance_at(r.hit_p, r.hit_n, -r.dir));

@@ -2,6 +2,7 @@
 // by reflections.wgsl and reflections_gi.wgsl (which adds indirect light
 // at the hits it shades).
 #import lights
+#import work_list
 
 struct Params {
     max_depth: u32, // ui: 1..8 limit "max depth"
@@ -65,6 +66,18 @@ struct Reflection {
     hit_p: vec3f,
     hit_n: vec3f,
     hit_m: u32,
+}
+
+// The pass's own entry, per texel: lists the texels whose surface
+// reflects for the `listed` entry, and passes the others' light through.
+fn reflect_select(id: vec3u) {
+    let ids = textureLoad(gbuf_id, id.xy, 0);
+    if is_lit_surface(ids) && material_specular(ids.x) > 0.0 {
+        work_list_push(id.xy);
+    } else {
+        textureStore(lit, id.xy, textureLoad(lit_in, id.xy, 0));
+        textureStore(reflect_reuse, id.xy, vec4f(-1.0, 0.0, 0.0, 1.0));
+    }
 }
 
 fn reflect_begin(id: vec3u) -> Reflection {

@@ -203,6 +203,14 @@ pub struct PassDesc {
     /// written.
     #[serde(default)]
     pub dispatch: Option<SizeDesc>,
+    /// A second entry point of the shader, run once per texel the pass's
+    /// entry pushed to its `work_list` (shared/work_list.wgsl), by an
+    /// indirect dispatch right after it: the expensive work of a pass that
+    /// few texels need (reflections, refinement) then costs only those
+    /// texels. CPU drivers run every branch of a shader under a lane mask,
+    /// so a per-texel `if` skips nothing there; a shorter dispatch does.
+    #[serde(default)]
+    pub listed: Option<String>,
 }
 
 /// A map key written bare (`{ samples: 1 }`, as the shipped graphs write them) or quoted

@@ -75,6 +75,14 @@ struct PassGpu {
     params: Option<wgpu::Buffer>,
     /// The `run` uniform, for passes that bind one.
     run: Option<wgpu::Buffer>,
+    /// The work list of a pass with a `listed` entry.
+    work_list: Option<WorkList>,
+}
+
+/// A pass's work list (Target::WorkList) and its indirect dispatch.
+struct WorkList {
+    list: wgpu::Buffer,
+    args: wgpu::Buffer,
 }
 
 /// A texture of the executor with what decides whether a rebuild may keep it.
@@ -227,6 +235,27 @@ impl Executor {
                     mapped_at_creation: false,
                 })
             });
+            // The count and the dispatch's x are zeroed before each run;
+            // y and z stay 1.
+            let work_list = sp.bindings.iter().any(|b| b.target == Target::WorkList).then(|| {
+                let (w, h) = sp.dispatch.resolve(size);
+                let list = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&sp.name),
+                    size: WORK_LIST_HEADER + 4 * u64::from(w) * u64::from(h),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                gpu.queue.write_buffer(&list, 0, bytemuck::cast_slice(&[0u32, 0, 1, 1]));
+                // A buffer bound writable cannot also be a dispatch's
+                // indirect buffer: the groups are copied out to this one.
+                let args = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&sp.name),
+                    size: 12,
+                    usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                WorkList { list, args }
+            });
             let make_groups = |parity: u8| -> Result<Vec<(u32, wgpu::BindGroup)>, UserError> {
                 let mut groups = Vec::new();
                 for (g, layout) in &pipeline.layouts {
@@ -242,6 +271,10 @@ impl Executor {
                             Target::Run => match &run {
                                 Some(r) => r.as_entire_binding(),
                                 None => return Err(UserError::new(format!("pass `{}`: `run` has no buffer", sp.name))),
+                            },
+                            Target::WorkList => match &work_list {
+                                Some(l) => l.list.as_entire_binding(),
+                                None => return Err(UserError::new(format!("pass `{}`: `work_list` has no buffer", sp.name))),
                             },
                         };
                         entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
@@ -259,6 +292,7 @@ impl Executor {
                 workgroups: [w.div_ceil(wg[0].max(1)), h.div_ceil(wg[1].max(1)), 1],
                 params,
                 run,
+                work_list,
             });
         }
         let most: u64 = schedule.passes.iter().map(|p| u64::from(dispatches_at_most(p.run))).sum();
@@ -292,12 +326,44 @@ impl Executor {
         if let (Some(run), Some(records)) = (&p.run, &self.run_records) {
             enc.copy_buffer_to_buffer(records, record * RUN_BYTES, run, 0, RUN_BYTES);
         }
-        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes });
-        cp.set_pipeline(&p.pipeline.pipeline);
-        for (g, bg) in &p.bind_groups[usize::from(self.parity)] {
+        let bind_groups = &p.bind_groups[usize::from(self.parity)];
+        let (Some(listed), Some(list)) = (&p.pipeline.listed, &p.work_list) else {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes });
+            cp.set_pipeline(&p.pipeline.pipeline);
+            for (g, bg) in bind_groups {
+                cp.set_bind_group(*g, bg, &[]);
+            }
+            cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
+            return;
+        };
+        // A pass with a work list: empty it, let the entry fill it, then
+        // run the listed entry over it; the timestamps bracket both.
+        enc.clear_buffer(&list.list, 0, Some(8));
+        {
+            let first = timestamp_writes.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
+                query_set: t.query_set,
+                beginning_of_pass_write_index: t.beginning_of_pass_write_index,
+                end_of_pass_write_index: None,
+            });
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes: first });
+            cp.set_pipeline(&p.pipeline.pipeline);
+            for (g, bg) in bind_groups {
+                cp.set_bind_group(*g, bg, &[]);
+            }
+            cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
+        }
+        enc.copy_buffer_to_buffer(&list.list, 4, &list.args, 0, 12);
+        let second = timestamp_writes.map(|t| wgpu::ComputePassTimestampWrites {
+            query_set: t.query_set,
+            beginning_of_pass_write_index: None,
+            end_of_pass_write_index: t.end_of_pass_write_index,
+        });
+        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes: second });
+        cp.set_pipeline(listed);
+        for (g, bg) in bind_groups {
             cp.set_bind_group(*g, bg, &[]);
         }
-        cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
+        cp.dispatch_workgroups_indirect(&list.args, 0);
     }
 
     /// This frame's dispatches: per pass, how many (0 for a pass that does

@@ -26,6 +26,7 @@ pub struct PipelineKey {
     /// Hash of the expanded source (the whole import closure's content).
     source: u64,
     entry: String,
+    listed: Option<String>,
     /// Override constants, sorted by name, values as bits.
     constants: Vec<(String, u64)>,
 }
@@ -33,6 +34,8 @@ pub struct PipelineKey {
 /// A pipeline and the bind group layouts it was made with.
 pub struct CachedPipeline {
     pub pipeline: wgpu::ComputePipeline,
+    /// The pass's `listed` entry, with the same layout.
+    pub listed: Option<wgpu::ComputePipeline>,
     pub layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
 }
 
@@ -122,6 +125,7 @@ fn key(sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Pipe
         shader: sp.shader.clone(),
         source: h.finish(),
         entry: sp.entry.clone(),
+        listed: sp.listed.clone(),
         constants: constants.iter().map(|(k, v)| (k.clone(), v.to_bits())).collect(),
     }
 }
@@ -189,17 +193,21 @@ fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants:
         immediate_size: 0,
     });
     let constants: Vec<(&str, f64)> = constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(&sp.name),
-        layout: Some(&pipeline_layout),
-        module: &module,
-        entry_point: Some(&sp.entry),
-        compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-        cache: None,
-    });
+    let make = |entry: &str| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(&sp.name),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            cache: None,
+        })
+    };
+    let pipeline = make(&sp.entry);
+    let listed = sp.listed.as_deref().map(make);
     if let Some(e) = pollster::block_on(scope.pop()) {
         let at = shader.source.files.first().map(|f| f.display().to_string()).unwrap_or_else(|| sp.shader.clone());
         return Err(UserError::new(format!("pass `{}` ({at}): the GPU driver rejected the pipeline: {e}", sp.name)));
     }
-    Ok(CachedPipeline { pipeline, layouts })
+    Ok(CachedPipeline { pipeline, listed, layouts })
 }

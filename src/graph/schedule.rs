@@ -6,6 +6,14 @@ use crate::graph::desc::{ProbesDesc, RunMode, SizeDesc};
 use crate::scene::{Feature, SceneFeatures};
 use crate::shader::BindingKind;
 
+/// The binding through which a pass lists texels for its `listed` entry.
+pub const WORK_LIST: &str = "work_list";
+/// The listed entry's workgroup size (`WORK_GROUP` in shared/work_list.wgsl).
+pub const WORK_LIST_GROUP: u32 = 64;
+/// Bytes before the work list's items: the count, then the indirect
+/// dispatch's (x, y, z) groups.
+pub const WORK_LIST_HEADER: u64 = 16;
+
 /// Buffers the engine provides, bound by name like graph resources.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum EngineResource {
@@ -116,6 +124,10 @@ pub enum Target {
     /// The pass's `run` uniform: which iteration a dispatch is (see
     /// `RunMode`); the executor writes it before each dispatch.
     Run,
+    /// The pass's own list of texels for its `listed` entry
+    /// (shared/work_list.wgsl): emptied before the pass, filled by its
+    /// entry, read by the listed entry and as its indirect dispatch.
+    WorkList,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -133,6 +145,8 @@ pub struct ScheduledPass {
     pub shader: String,
     pub entry: String,
     pub workgroup_size: [u32; 3],
+    /// The entry dispatched over the texels `entry` lists (`PassDesc::listed`).
+    pub listed: Option<String>,
     /// The `params` uniform (layout, values, packed bytes), if the shader has one.
     pub params: Option<crate::graph::params::PassParams>,
     /// `override` constants for the pipeline.

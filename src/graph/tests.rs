@@ -923,3 +923,5 @@ fn errors_point_at_the_pass_not_a_namesake() {
     let located = super::locate(&e, Path::new("g.ron"), text).to_string();
     assert!(located.starts_with("g.ron:7:"), "{located}");
 }
+
+mod listed;

@@ -81,6 +81,7 @@ pub(super) fn emit_schedule(
                 Bound::Engine(e) => Target::Engine(*e),
                 Bound::Params => Target::Params,
                 Bound::Run => Target::Run,
+                Bound::WorkList => Target::WorkList,
             };
             bindings.push(ResolvedBinding { name: b.name.clone(), group: b.group, binding: b.binding, kind: b.kind.clone(), target });
         }
@@ -99,6 +100,7 @@ pub(super) fn emit_schedule(
             shader: plan.desc.shader.clone(),
             entry: plan.entry.name.clone(),
             workgroup_size: plan.entry.workgroup_size,
+            listed: plan.listed.map(|e| e.name.clone()),
             params: plan.params.clone(),
             constants: plan.constants.clone(),
             bindings,

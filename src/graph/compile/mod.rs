@@ -123,12 +123,15 @@ enum Bound {
     Engine(EngineResource),
     Params,
     Run,
+    WorkList,
 }
 
 #[derive(Debug, Clone)]
 struct PassPlan<'a> {
     desc: &'a PassDesc,
     entry: &'a EntryInfo,
+    /// The entry run over the texels `entry` lists (`PassDesc::listed`).
+    listed: Option<&'a EntryInfo>,
     bindings: Vec<(&'a BindingInfo, Bound)>,
     params: Option<PassParams>,
     constants: Vec<(String, f64)>,

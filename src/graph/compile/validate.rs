@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::{err, err_at, names, Bound, CompileError, ErrorKind, PassPlan};
 use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, RunMode, TextureDesc};
 use crate::graph::params::{ParamError, PassParams};
-use crate::graph::schedule::{EngineKind, EngineResource};
+use crate::graph::schedule::{EngineKind, EngineResource, WORK_LIST, WORK_LIST_GROUP};
 use crate::format::TexFormat;
 use crate::shader::{BindingInfo, BindingKind, EntryInfo, SampleType, ScalarType, ShaderInfo, StorageAccess};
 
@@ -27,9 +27,17 @@ pub(super) fn validate<'a>(
                 err(ErrorKind::UnknownShader, Some(name), format!("shader `{}` is outside the shader folder: name a shader by its path inside it (no absolute paths, no `..`)", pass.shader))
             }
         })?;
+        let listed = pick_listed(pass, shader)?;
         let entry = pick_entry(pass, shader)?;
+        // Both entries share one layout: the bindings of either.
+        let mut used: Vec<&BindingInfo> = entry.bindings.iter().collect();
+        for b in listed.iter().flat_map(|l| &l.bindings) {
+            if !used.iter().any(|u| (u.group, u.binding) == (b.group, b.binding)) {
+                used.push(b);
+            }
+        }
         for var in pass.bind.keys() {
-            if !entry.bindings.iter().any(|b| &b.name == var) {
+            if !used.iter().any(|b| &b.name == var) {
                 return Err(err(
                     ErrorKind::UnknownBinding,
                     Some(name),
@@ -43,15 +51,16 @@ pub(super) fn validate<'a>(
             }
         }
         let mut bindings = Vec::new();
-        for b in &entry.bindings {
+        for b in used {
             let target = pass.bind.get(&b.name).unwrap_or(&b.name);
             bindings.push((b, bind_one(desc, name, b, target)?));
         }
+        check_work_list(pass, entry, &bindings)?;
         check_pass_writes(name, &bindings)?;
         check_run(desc, pass, &bindings)?;
         // An entry point that does not use `params` (another entry of the
         // shader may) takes none.
-        let params = if shader.params.is_none() || entry.bindings.iter().any(|b| b.name == "params") {
+        let params = if shader.params.is_none() || bindings.iter().any(|(b, _)| b.name == "params") {
             pack_params(pass, shader)?
         } else if let Some(k) = pass.params.keys().next() {
             return Err(err(ErrorKind::UnknownParam, Some(name), format!("param `{k}` given, but entry point `{}` of {} uses no `params`", entry.name, shader.name)));
@@ -59,15 +68,17 @@ pub(super) fn validate<'a>(
             None
         };
         let constants = check_constants(pass, shader)?;
-        plans.push(PassPlan { desc: pass, entry, bindings, params, constants });
+        plans.push(PassPlan { desc: pass, entry, listed, bindings, params, constants });
     }
     Ok(plans)
 }
 
 fn pick_entry<'a>(pass: &PassDesc, shader: &'a ShaderInfo) -> Result<&'a EntryInfo, CompileError> {
+    // The `listed` entry is not a candidate for the pass's own.
+    let candidates: Vec<&EntryInfo> = shader.entry_points.iter().filter(|ep| Some(&ep.name) != pass.listed.as_ref()).collect();
     let found = match &pass.entry {
-        Some(e) => shader.entry_points.iter().find(|ep| &ep.name == e),
-        None if shader.entry_points.len() == 1 => shader.entry_points.first(),
+        Some(e) => candidates.iter().copied().find(|ep| &ep.name == e),
+        None if candidates.len() == 1 => candidates.first().copied(),
         None => None,
     };
     found.ok_or_else(|| {
@@ -87,7 +98,60 @@ fn pick_entry<'a>(pass: &PassDesc, shader: &'a ShaderInfo) -> Result<&'a EntryIn
     })
 }
 
+/// The `listed` entry: another compute entry of the shader, with the work
+/// list's workgroup size.
+fn pick_listed<'a>(pass: &PassDesc, shader: &'a ShaderInfo) -> Result<Option<&'a EntryInfo>, CompileError> {
+    let Some(name) = &pass.listed else { return Ok(None) };
+    let found = shader.entry_points.iter().find(|ep| &ep.name == name);
+    let Some(listed) = found.filter(|_| pass.entry.as_ref() != Some(name)) else {
+        return Err(err(
+            ErrorKind::UnknownEntry,
+            Some(&pass.name),
+            format!(
+                "`listed: \"{name}\"` must name another compute entry point of {} than the pass's own; it has [{}]",
+                shader.name,
+                names(shader.entry_points.iter().map(|e| &e.name)),
+            ),
+        ));
+    };
+    if listed.workgroup_size != [WORK_LIST_GROUP, 1, 1] {
+        let [x, y, z] = listed.workgroup_size;
+        return Err(err(
+            ErrorKind::UnknownEntry,
+            Some(&pass.name),
+            format!("listed entry `{name}` has @workgroup_size({x}, {y}, {z}); an entry run over a work list takes @workgroup_size({WORK_LIST_GROUP}) (its indirect dispatch counts groups of {WORK_LIST_GROUP})"),
+        ));
+    }
+    Ok(Some(listed))
+}
+
+/// A work list needs both halves: the pass's entry fills it, a `listed`
+/// entry runs over it.
+fn check_work_list(pass: &PassDesc, entry: &EntryInfo, bindings: &[(&BindingInfo, Bound)]) -> Result<(), CompileError> {
+    let declared = bindings.iter().any(|(_, b)| *b == Bound::WorkList);
+    let filled = entry.bindings.iter().any(|b| b.name == WORK_LIST);
+    match &pass.listed {
+        None if declared => Err(err(
+            ErrorKind::WrongAccess,
+            Some(&pass.name),
+            format!("the shader uses `{WORK_LIST}`, but the pass has no `listed:` entry to run over it"),
+        )),
+        Some(l) if !filled => Err(err(
+            ErrorKind::WrongAccess,
+            Some(&pass.name),
+            format!("`listed: \"{l}\"` runs over the texels entry `{}` pushes to `{WORK_LIST}`, but that entry does not use `{WORK_LIST}` (shared/work_list.wgsl)", entry.name),
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn bind_one(desc: &FrameGraph, pass: &str, b: &BindingInfo, target: &str) -> Result<Bound, CompileError> {
+    if b.name == WORK_LIST && target == WORK_LIST {
+        return match b.kind {
+            BindingKind::Storage { read_only: false } => Ok(Bound::WorkList),
+            _ => Err(err_at(ErrorKind::WrongAccess, pass, b, "`work_list` must be a var<storage, read_write> WorkList (shared/work_list.wgsl)")),
+        };
+    }
     if b.name == "params" && target == "params" {
         return match b.kind {
             BindingKind::Uniform { .. } => Ok(Bound::Params),
