@@ -13,17 +13,12 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if ids.y == NO_OBJECT {
-        textureStore(albedo, id.xy, vec4f(frame.background, 1.0));
-        textureStore(lit, id.xy, vec4f(frame.background, 1.0));
-        return;
-    }
-    let m = load_material(ids.x);
-    if is_emissive(m) {
-        textureStore(albedo, id.xy, vec4f(m.emission, 1.0));
-        textureStore(lit, id.xy, vec4f(m.emission, 1.0));
-        return;
-    }
-    textureStore(albedo, id.xy, vec4f(m.albedo, 1.0));
-    textureStore(lit, id.xy, vec4f(0.0, 0.0, 0.0, 1.0));
+    let miss = ids.y == NO_OBJECT;
+    // One store per texture, chosen by select: CPU drivers run every
+    // branch under a lane mask, so a store in each would cost three.
+    let m = load_material(select(ids.x, 0u, miss));
+    let shown = select(select(m.albedo, m.emission, is_emissive(m)), frame.background, miss);
+    let unlit = select(select(vec3f(0.0), m.emission, is_emissive(m)), frame.background, miss);
+    textureStore(albedo, id.xy, vec4f(shown, 1.0));
+    textureStore(lit, id.xy, vec4f(unlit, 1.0));
 }

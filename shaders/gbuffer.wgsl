@@ -29,16 +29,13 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let ro = frame.camera.origin;
     let rd = camera_dir(frame.camera, id.xy, jitter);
     let hit = trace_closest(ro, rd, 3.0e38);
-    if !hit_found(hit) {
-        textureStore(gbuf_pos, id.xy, vec4f(rd, -1.0));
-        textureStore(gbuf_normal, id.xy, vec4f(0.0));
-        textureStore(gbuf_id, id.xy, vec4u(NO_HIT, NO_HIT, 0u, 0u));
-        return;
-    }
-    // Two-sided surfaces: face the normals toward the viewer.
-    let n = facing(hit, rd).n;
-    textureStore(gbuf_pos, id.xy, vec4f(hit.position, hit.t));
-    // w: the specular share, so accumulate knows what is view-dependent.
-    textureStore(gbuf_normal, id.xy, vec4f(n, material_specular(hit.material)));
-    textureStore(gbuf_id, id.xy, vec4u(hit.material, hit.object, 0u, 0u));
+    let found = hit_found(hit);
+    // One store per texture, hit or miss: CPU drivers run both sides of a
+    // branch under a lane mask, so a store on each side costs two.
+    // Two-sided surfaces: face the normals toward the viewer; w: the
+    // specular share, so accumulate knows what is view-dependent.
+    let normal = vec4f(facing(hit, rd).n, material_specular(hit.material));
+    textureStore(gbuf_pos, id.xy, select(vec4f(rd, -1.0), vec4f(hit.position, hit.t), found));
+    textureStore(gbuf_normal, id.xy, select(vec4f(0.0), normal, found));
+    textureStore(gbuf_id, id.xy, select(vec4u(NO_HIT, NO_HIT, 0u, 0u), vec4u(hit.material, hit.object, 0u, 0u), found));
 }

@@ -33,10 +33,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let before = textureLoad(lit_in, id.xy, 0);
     let ids = textureLoad(gbuf_id, id.xy, 0);
-    if !is_lit_surface(ids) {
-        textureStore(lit, id.xy, before);
-        return;
-    }
     let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
     // The diffuse share of the surface; the specular share is the
@@ -64,5 +60,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         irradiance += light_irradiance(l, p, n, o, count, params.falloff, params.falloff_k, &rng);
     }
     let radiance = finite_or_zero(base / PI * irradiance);
-    textureStore(lit, id.xy, vec4f(before.rgb + radiance, 1.0));
+    // One store, the light added only where a lit surface is: CPU drivers
+    // run every branch under a lane mask, so an early store for the other
+    // pixels would be a second store for all of them.
+    textureStore(lit, id.xy, select(before, vec4f(before.rgb + radiance, 1.0), is_lit_surface(ids)));
 }

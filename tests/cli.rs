@@ -46,6 +46,8 @@ fn hybrid_graph_drops_the_mask_passes_without_area_lights() {
     let (code, out, _) = glint(&["graph", "check", "passes/hybrid.ron", "--scene", "scenes/cornell.ron"]);
     assert_eq!(code, 0);
     assert!(out.contains("lights_point: requires PointLights") && out.contains("refine (refine.wgsl"), "{out}");
+    // The passes over a work list say so.
+    assert!(out.contains("refine (refine.wgsl:main, then listed over its work list)"), "{out}");
 }
 
 #[test]
@@ -82,7 +84,7 @@ fn broken_graph_and_shader_name_file_and_line() {
     // A WGSL type error: the shader file and line.
     let good = std::fs::read_to_string(repo().join("passes/direct.ron")).unwrap();
     let graph = write(&dir.join("passes"), "g.ron", &good);
-    let shader = std::fs::read_to_string(repo().join("shaders/albedo.wgsl")).unwrap().replace("let m = load_material(ids.x);", "let m: u32 = load_material(ids.x);");
+    let shader = std::fs::read_to_string(repo().join("shaders/albedo.wgsl")).unwrap().replace("let m = load_material(", "let m: u32 = load_material(");
     let line = shader.lines().position(|l| l.contains("let m: u32")).unwrap() + 1;
     write(&dir.join("shaders"), "albedo.wgsl", &shader);
     let (code, _, err) = glint(&["graph", "check", &graph]);

@@ -7,7 +7,8 @@
 // SCENE_TEXTURE_WIDTH texels wide, one texel per vec4 member below (the
 // byte layout of src/scene/gpu_types.rs; src/scene/buffers.rs says
 // why textures); so are the shading normals, to lift the storage-binding
-// limit from meshes. Meshes, materials and lights are storage buffers.
+// limit from meshes; so are materials and lights, which shading reads at
+// every pixel (two texels each). Meshes are a storage buffer.
 // geo = (center, radius); ids = (material, light as i32 bits, object, _).
 struct Sphere {
     geo: vec4f,
@@ -58,8 +59,8 @@ struct Light {
 @group(1) @binding(1) var scene_spheres: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(2) var scene_geometry: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(3) var<storage, read> scene_meshes: array<Mesh>;
-@group(1) @binding(4) var<storage, read> scene_materials: array<Material>;
-@group(1) @binding(5) var<storage, read> scene_lights: array<Light>;
+@group(1) @binding(4) var scene_materials: texture_storage_2d<rgba32uint, read>;
+@group(1) @binding(5) var scene_lights: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(8) var scene_normals: texture_storage_2d<rgba32uint, read>;
 
 // Mirrors SCENE_TEXTURE_WIDTH in src/scene/buffers.rs.
@@ -114,7 +115,9 @@ fn light_count() -> u32 {
 // Light i, its kind a constant where the scene has lights of one kind
 // (the other kind's code folds away).
 fn load_light(i: u32) -> Light {
-    var l = scene_lights[i];
+    let a = bitcast<vec4f>(scene_texel(scene_lights, 2u * i));
+    let b = scene_texel(scene_lights, 2u * i + 1u);
+    var l = Light(a.xyz, a.w, bitcast<vec3f>(b.xyz), b.w);
     if !SCENE_POINT_LIGHTS {
         l.kind = LIGHT_SPHERE;
     } else if !SCENE_AREA_LIGHTS {
@@ -126,7 +129,9 @@ fn load_light(i: u32) -> Light {
 // Material i, its specular share a constant 0 where no surface of the
 // scene reflects (reflection and mirror-bounce code folds away).
 fn load_material(i: u32) -> Material {
-    var m = scene_materials[i];
+    let a = bitcast<vec4f>(scene_texel(scene_materials, 2u * i));
+    let b = bitcast<vec4f>(scene_texel(scene_materials, 2u * i + 1u));
+    var m = Material(a.xyz, a.w, b.xyz, b.w);
     if !SCENE_SPECULAR {
         m.specular = 0.0;
     }
@@ -140,7 +145,7 @@ fn material_specular(i: u32) -> f32 {
     if !SCENE_SPECULAR {
         return 0.0;
     }
-    return scene_materials[i].specular;
+    return bitcast<f32>(scene_texel(scene_materials, 2u * i).w);
 }
 
 fn is_emissive(m: Material) -> bool {

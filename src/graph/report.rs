@@ -28,12 +28,15 @@ pub fn text(s: &Schedule, screen: (u32, u32)) -> String {
         } else {
             format!(" constants {{{}}}", p.constants.iter().map(|(k, v)| format!("{k}: {v}")).collect::<Vec<_>>().join(", "))
         };
+        let entry = match &p.listed {
+            Some(l) => format!("{}, then {l} over its work list", p.entry),
+            None => p.entry.clone(),
+        };
         let _ = writeln!(
             o,
-            "  {i}. {} ({}:{}){consts}\n       runs {}; reads [{}]  writes [{}]",
+            "  {i}. {} ({}:{entry}){consts}\n       runs {}; reads [{}]  writes [{}]",
             p.name,
             p.shader,
-            p.entry,
             p.run.describe(),
             p.reads.join(", "),
             p.writes.join(", ")

@@ -69,8 +69,10 @@ impl EngineResource {
             EngineResource::Spheres
             | EngineResource::Geometry
             | EngineResource::Normals
-            | EngineResource::Instances => EngineKind::Texture,
-            EngineResource::Meshes | EngineResource::Materials | EngineResource::Lights => EngineKind::Storage,
+            | EngineResource::Instances
+            | EngineResource::Materials
+            | EngineResource::Lights => EngineKind::Texture,
+            EngineResource::Meshes => EngineKind::Storage,
         }
     }
 }

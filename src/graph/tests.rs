@@ -342,14 +342,14 @@ fn buffer_bound_to_a_texture() {
 
 #[test]
 fn wrong_access_to_engine_resources() {
-    let bad = shader("bad.wgsl", &[("scene_materials", storage(false)), ("dst", out(F16))]);
+    let bad = shader("bad.wgsl", &[("scene_meshes", storage(false)), ("dst", out(F16))]);
     let e = fail_with(&one_pass("bad.wgsl", ""), &[bad]);
     check(
         &e,
         ErrorKind::WrongAccess,
         Some("a"),
         Some(decl("bad.wgsl", 0)),
-        &["engine resource `scene_materials`", "var<storage, read>", "declares var<storage, read_write>"],
+        &["engine resource `scene_meshes`", "var<storage, read>", "declares var<storage, read_write>"],
     );
 
     // The per-primitive arrays are read-only rgba32uint storage textures.
@@ -552,7 +552,7 @@ fn engine_resources_and_params_bound_by_name() {
             ("params", uniform("Params")),
             ("frame", uniform("Frame")),
             ("scene_spheres", scene_array()),
-            ("scene_lights", storage(true)),
+            ("scene_lights", scene_array()),
             ("dst", out(F16)),
         ],
     );

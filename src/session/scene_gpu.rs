@@ -131,8 +131,8 @@ impl SceneGpu {
             EngineResource::Normals => wgpu::BindingResource::TextureView(b.normals.view()),
             EngineResource::Instances => wgpu::BindingResource::TextureView(b.instances.view()),
             EngineResource::Meshes => b.meshes.as_entire_binding(),
-            EngineResource::Materials => b.materials.as_entire_binding(),
-            EngineResource::Lights => b.lights.as_entire_binding(),
+            EngineResource::Materials => wgpu::BindingResource::TextureView(b.materials.view()),
+            EngineResource::Lights => wgpu::BindingResource::TextureView(b.lights.view()),
         }
     }
 }
