@@ -35,3 +35,13 @@ ensure_xvfb() {
         apt_install xvfb
     fi
 }
+
+# The median frame time `glint render` prints, read from its output on stdin.
+render_median_ms() {
+    sed -n 's/.*median \([0-9.]*\) ms\/frame.*/\1/p'
+}
+
+# The median of the numbers given as arguments (the upper one of an even count).
+median_of() {
+    printf '%s\n' "$@" | sort -n | awk '{ v[NR] = $1 } END { printf "%s", v[int((NR + 1) / 2)] }'
+}

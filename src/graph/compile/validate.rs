@@ -45,7 +45,7 @@ pub(super) fn validate<'a>(
                         "`bind` maps `{var}`, but entry point `{}` of {} uses no binding of that name; it uses: {}",
                         entry.name,
                         shader.name,
-                        names(entry.bindings.iter().map(|b| &b.name))
+                        names(used.iter().map(|b| &b.name))
                     ),
                 ));
             }
