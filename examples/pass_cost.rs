@@ -13,7 +13,16 @@
 //! loops are unrolled into ifs first). Only a shorter dispatch saves the
 //! work, which is why sparse passes list their texels (shared/work_list.wgsl).
 //!
+//! Texel loads cost what their cache misses cost: four loads of one
+//! texture around the pixel cost about one load, four far apart about
+//! four. The workgroup's shape decides how well the driver's row-by-row
+//! walk streams through memory: with 8x8 workgroups an 8-lane SIMD group
+//! reads 8 texels of each of 8 rows (8 pages apart at 1280 texels a row),
+//! with 64x1 one run of 64 texels, and four loads from four textures cost
+//! a third as much. Hence every screen pass is @workgroup_size(64, 1).
+//!
 //!   WGPU_BACKEND=vulkan cargo run --release --example pass_cost
+//!   PASS_COST_ONLY=loads ...    only the variants whose name has "loads"
 
 const SIZE: (u32, u32) = (1280, 720);
 
@@ -42,6 +51,46 @@ const VARIANTS: &[Variant] = &[
         name: "4 loads rgba32float + store",
         workgroup: (8, 8),
         body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+    },
+    Variant {
+        name: "4 loads rgba32float + store 64x1",
+        workgroup: (64, 1),
+        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+    },
+    Variant {
+        name: "4 loads rgba32float + store 32x2",
+        workgroup: (32, 2),
+        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+    },
+    Variant {
+        name: "4 loads rgba32float + store 16x4",
+        workgroup: (16, 4),
+        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+    },
+    Variant {
+        name: "2 loads rgba32float + store",
+        workgroup: (8, 8),
+        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0));",
+    },
+    Variant {
+        name: "4 loads of one rgba32float + store",
+        workgroup: (8, 8),
+        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32, id.xy + vec2u(1u, 0u), 0) + textureLoad(t32, id.xy + vec2u(0u, 1u), 0) + textureLoad(t32, id.xy + vec2u(1u, 1u), 0));",
+    },
+    Variant {
+        name: "4 far loads of one rgba32float + store",
+        workgroup: (8, 8),
+        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32, (id.xy + vec2u(0u, 180u)) % vec2u(1280u, 720u), 0) + textureLoad(t32, (id.xy + vec2u(0u, 360u)) % vec2u(1280u, 720u), 0) + textureLoad(t32, (id.xy + vec2u(0u, 540u)) % vec2u(1280u, 720u), 0));",
+    },
+    Variant {
+        name: "storage-read rgba32float + store",
+        workgroup: (8, 8),
+        body: "textureStore(o32, id.xy, textureLoad(s32, id.xy));",
+    },
+    Variant {
+        name: "4 storage-reads rgba32float + store",
+        workgroup: (8, 8),
+        body: "textureStore(o32, id.xy, textureLoad(s32, id.xy) + textureLoad(s32, id.xy + vec2u(1u, 0u)) + textureLoad(s32, id.xy + vec2u(0u, 1u)) + textureLoad(s32, id.xy + vec2u(1u, 1u)));",
     },
     Variant {
         name: "load rgba16float + store",
@@ -179,6 +228,7 @@ var<workgroup> wflag: u32;
 @group(0) @binding(11) var t16: texture_2d<f32>;
 @group(0) @binding(12) var tu32: texture_2d<u32>;
 @group(0) @binding(13) var<uniform> u: U;
+@group(0) @binding(14) var s32: texture_storage_2d<rgba32float, read>;
 ";
 
 fn main() {
@@ -230,7 +280,9 @@ fn main() {
     });
     let uniform = device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 32, usage: wgpu::BufferUsages::UNIFORM, mapped_at_creation: false });
 
-    for v in VARIANTS {
+    // PASS_COST_ONLY=text runs only the variants whose name contains it.
+    let only = std::env::var("PASS_COST_ONLY").unwrap_or_default();
+    for v in VARIANTS.iter().filter(|v| v.name.contains(only.as_str())) {
         let src = format!(
             "{DECLS}
 @compute @workgroup_size({wx}, {wy})
@@ -266,6 +318,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {{
             if v.body.contains(["t32,", "t32b", "t32c", "t32d", "t16", "tu32"][i]) {
                 entries.push(wgpu::BindGroupEntry { binding: 7 + i as u32, resource: wgpu::BindingResource::TextureView(view) });
             }
+        }
+        if v.body.contains("s32,") {
+            entries.push(wgpu::BindGroupEntry { binding: 14, resource: wgpu::BindingResource::TextureView(&inputs[1]) });
         }
         if v.body.contains("u.a") || v.body.contains("u.b") {
             entries.push(wgpu::BindGroupEntry { binding: 13, resource: uniform.as_entire_binding() });

@@ -151,7 +151,7 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> Histor
     return History(Mean(value / weight, compensation / weight), count);
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

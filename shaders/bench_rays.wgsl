@@ -16,7 +16,7 @@ const SUN: vec3f = vec3f(0.28734789, 0.95782629, 0.19156526);
 const INF: f32 = 3.0e38;
 
 // Primary: xyz hit point, w distance along the unit direction (-1: miss).
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn primary(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -34,7 +34,7 @@ fn primary(@builtin(global_invocation_id) id: vec3u) {
 }
 
 // Shadow: out.x = primary distance (inf on a miss), out.y = 1 if occluded.
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn shadow(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -51,7 +51,7 @@ fn shadow(@builtin(global_invocation_id) id: vec3u) {
 }
 
 // Diffuse: out.z = distance of a cosine-distributed bounce (-1: miss).
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn diffuse(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

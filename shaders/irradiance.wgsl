@@ -70,7 +70,7 @@ fn store_lit(id: vec3u, s: Surface, e: vec3f) {
     textureStore(lit, id.xy, vec4f(s.before.rgb + finite_or_zero(s.base / PI * e), 1.0));
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn thesis(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -83,7 +83,7 @@ fn thesis(@builtin(global_invocation_id) id: vec3u) {
     store_lit(id, s, e);
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn ddgi(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -158,8 +158,8 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
 // first bounce is traced, so contact shadows and near walls are exact;
 // the volume supplies only the light arriving at the gather hits. Its
 // mean over frames is the indirect light (`accumulate` takes it).
-@compute @workgroup_size(8, 8)
-fn ddgi_gather(@builtin(global_invocation_id) id: vec3u) {
+@compute @workgroup_size(64, 1)
+fn ddgi_gather(@builtin(global_invocation_id) id: vec3u, @builtin(workgroup_id) group: vec3u) {
     if !in_frame(id) {
         return;
     }
@@ -170,11 +170,10 @@ fn ddgi_gather(@builtin(global_invocation_id) id: vec3u) {
     }
     // 1 / GATHER_PHASES of the pixels a frame, in turn, each weighing
     // GATHER_PHASES (the mean over that many frames is the same; the cost
-    // is a fraction): whole 8x8 tiles in a 2x2 pattern, so workgroups (and
-    // SIMD groups) skip together; a per-pixel checkerboard saved nothing on
-    // lavapipe.
-    let tile = id.xy / 8u;
-    let phase = select((tile.x & 1u) + 2u * (tile.y & 1u), (tile.x + tile.y) & 1u, GATHER_PHASES == 2u);
+    // is a fraction): whole workgroups (64-pixel runs of a row) in
+    // diagonal stripes, so they and their SIMD groups skip together; a
+    // per-pixel checkerboard saved nothing on lavapipe.
+    let phase = (group.x + group.y) % max(GATHER_PHASES, 1u);
     if GATHER_PHASES > 1u && phase != frame.frame_index % GATHER_PHASES {
         store_lit(id, s, vec3f(0.0));
         return;
@@ -215,7 +214,7 @@ fn probe_test(id: vec3u, i: u32, c: vec3f, hit: ptr<function, ProbeHit>, best: p
     }
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn thesis_view(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -236,7 +235,7 @@ fn thesis_view(@builtin(global_invocation_id) id: vec3u) {
     textureStore(probe_view, id.xy, vec4f(finite_or_zero(shown), 1.0));
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn ddgi_view(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

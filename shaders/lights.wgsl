@@ -26,7 +26,7 @@ struct Params {
 
 const SALT: u32 = 0x6c696768u;
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

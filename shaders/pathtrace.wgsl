@@ -42,7 +42,7 @@ fn sample_sum(id: vec2u) -> vec3f {
     return sum;
 }
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -55,7 +55,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
 
 // A later dispatch of a split frame: the mean of spp_done samples already
 // in radiance_acc, updated with this dispatch's spp more.
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn main_more(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

@@ -11,7 +11,7 @@
 
 @group(0) @binding(0) var lit: texture_storage_2d<rgba32float, write>;
 
-@compute @workgroup_size(8, 8)
+@compute @workgroup_size(64, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

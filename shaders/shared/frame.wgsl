@@ -69,6 +69,10 @@ fn project(cam: Camera, p: vec3f) -> vec3f {
     return vec3f((sx + 1.0) * 0.5 * size.x, (1.0 - sy) * 0.5 * size.y, z);
 }
 
+// Screen passes run @workgroup_size(64, 1): one run along a row, which a
+// CPU driver streams through memory; an 8x8 tile touches eight rows apart
+// and its texel loads cost up to three times as much
+// (`cargo run --release --example pass_cost`).
 fn in_frame(id: vec3u) -> bool {
     return id.x < frame.size.x && id.y < frame.size.y;
 }
