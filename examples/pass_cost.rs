@@ -21,6 +21,12 @@
 //! with 64x1 one run of 64 texels, and four loads from four textures cost
 //! a third as much. Hence every screen pass is @workgroup_size(64, 1).
 //!
+//! The "13 prims" variants read a small scene's primitives (three texels
+//! each, the same index in every lane, as the flat-scene loop does) from a
+//! storage texture, from a uniform array and from workgroup memory filled
+//! once per workgroup: the texture is the cheapest (about 19, 27 and 60 ms
+//! here), so scene data stays in textures.
+//!
 //!   WGPU_BACKEND=vulkan cargo run --release --example pass_cost
 //!   PASS_COST_ONLY=loads ...    only the variants whose name has "loads"
 
@@ -205,6 +211,21 @@ const VARIANTS: &[Variant] = &[
         body: "var h = id.x; for (var i = 0u; i < bitcast<u32>(u.a.x); i++) { HEAVY } textureStore(or32, id.xy, vec4f(f32(h)));",
     },
     Variant {
+        name: "13 prims from a storage texture",
+        workgroup: (64, 1),
+        body: "var acc = 0.0; for (var i = 0u; i < 13u + u32(u.b.x); i++) { let a = bitcast<vec4f>(textureLoad(sg, vec2u(3u * i + 0u, 0u))); let b = bitcast<vec4f>(textureLoad(sg, vec2u(3u * i + 1u, 0u))); let c = bitcast<vec4f>(textureLoad(sg, vec2u(3u * i + 2u, 0u))); acc += dot(a.xyz - vec3f(f32(id.x)), b.xyz) * c.x; } textureStore(or32, id.xy, vec4f(acc));",
+    },
+    Variant {
+        name: "13 prims from a uniform array",
+        workgroup: (64, 1),
+        body: "var acc = 0.0; for (var i = 0u; i < 13u + u32(u.b.x); i++) { let a = ua.v[3u * i + 0u]; let b = ua.v[3u * i + 1u]; let c = ua.v[3u * i + 2u]; acc += dot(a.xyz - vec3f(f32(id.x)), b.xyz) * c.x; } textureStore(or32, id.xy, vec4f(acc));",
+    },
+    Variant {
+        name: "13 prims from workgroup memory",
+        workgroup: (64, 1),
+        body: "for (var k = id.x % 64u; k < 39u; k += 64u) { wprims[k] = bitcast<vec4f>(textureLoad(sg, vec2u(k, 0u))); } workgroupBarrier(); var acc = 0.0; for (var i = 0u; i < 13u + u32(u.b.x); i++) { let a = wprims[3u * i + 0u]; let b = wprims[3u * i + 1u]; let c = wprims[3u * i + 2u]; acc += dot(a.xyz - vec3f(f32(id.x)), b.xyz) * c.x; } textureStore(or32, id.xy, vec4f(acc));",
+    },
+    Variant {
         name: "uniform read + store",
         workgroup: (8, 8),
         body: "textureStore(o32, id.xy, vec4f(u.a.xyz * f32(id.x), u.b.w));",
@@ -214,6 +235,7 @@ const VARIANTS: &[Variant] = &[
 const DECLS: &str = "
 struct U { a: vec4f, b: vec4f }
 var<workgroup> wflag: u32;
+var<workgroup> wprims: array<vec4f, 39>;
 @group(0) @binding(0) var o32: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(1) var o32b: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var o32c: texture_storage_2d<rgba32float, write>;
@@ -229,6 +251,9 @@ var<workgroup> wflag: u32;
 @group(0) @binding(12) var tu32: texture_2d<u32>;
 @group(0) @binding(13) var<uniform> u: U;
 @group(0) @binding(14) var s32: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(15) var sg: texture_storage_2d<rgba32uint, read>;
+struct UA { v: array<vec4f, 96> }
+@group(0) @binding(16) var<uniform> ua: UA;
 ";
 
 fn main() {
@@ -278,6 +303,7 @@ fn main() {
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
+    let uniform_array = device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 96 * 16, usage: wgpu::BufferUsages::UNIFORM, mapped_at_creation: false });
     let uniform = device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 32, usage: wgpu::BufferUsages::UNIFORM, mapped_at_creation: false });
 
     // PASS_COST_ONLY=text runs only the variants whose name contains it.
@@ -321,6 +347,12 @@ fn main(@builtin(global_invocation_id) id: vec3u) {{
         }
         if v.body.contains("s32,") {
             entries.push(wgpu::BindGroupEntry { binding: 14, resource: wgpu::BindingResource::TextureView(&inputs[1]) });
+        }
+        if v.body.contains("sg,") {
+            entries.push(wgpu::BindGroupEntry { binding: 15, resource: wgpu::BindingResource::TextureView(&inputs[5]) });
+        }
+        if v.body.contains("ua.v") {
+            entries.push(wgpu::BindGroupEntry { binding: 16, resource: uniform_array.as_entire_binding() });
         }
         if v.body.contains("u.a") || v.body.contains("u.b") {
             entries.push(wgpu::BindGroupEntry { binding: 13, resource: uniform.as_entire_binding() });
