@@ -38,6 +38,9 @@ struct Variant {
     body: &'static str,
 }
 
+// Four rgba32float loads from four textures, stored: timed per workgroup shape.
+const FOUR_LOADS: &str = "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));";
+
 const VARIANTS: &[Variant] = &[
     Variant { name: "return at once", workgroup: (8, 8), body: "if id.x == 99999u { textureStore(o32, id.xy, vec4f(1.0)); }" },
     Variant { name: "store rgba32float", workgroup: (8, 8), body: "textureStore(o32, id.xy, vec4f(f32(id.x)));" },
@@ -56,22 +59,22 @@ const VARIANTS: &[Variant] = &[
     Variant {
         name: "4 loads rgba32float + store",
         workgroup: (8, 8),
-        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+        body: FOUR_LOADS,
     },
     Variant {
         name: "4 loads rgba32float + store 64x1",
         workgroup: (64, 1),
-        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+        body: FOUR_LOADS,
     },
     Variant {
         name: "4 loads rgba32float + store 32x2",
         workgroup: (32, 2),
-        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+        body: FOUR_LOADS,
     },
     Variant {
         name: "4 loads rgba32float + store 16x4",
         workgroup: (16, 4),
-        body: "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + textureLoad(t32b, id.xy, 0) + textureLoad(t32c, id.xy, 0) + textureLoad(t32d, id.xy, 0));",
+        body: FOUR_LOADS,
     },
     Variant {
         name: "2 loads rgba32float + store",

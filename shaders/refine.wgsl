@@ -39,11 +39,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
 
 @compute @workgroup_size(64)
 fn listed(@builtin(global_invocation_id) gid: vec3u) {
-    let t = work_list_texel(gid.x);
-    if t.z == 0u {
+    let id = work_list_id(gid.x);
+    if id.z != 0u {
         return;
     }
-    let id = vec3u(t.xy, 0u);
     let before = textureLoad(lit_in, id.xy, 0);
     let ids = textureLoad(gbuf_id, id.xy, 0);
     let p = textureLoad(gbuf_pos, id.xy, 0).xyz;

@@ -14,11 +14,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
 // Over the texels `main` listed (the graph's `listed:` entry).
 @compute @workgroup_size(64)
 fn listed(@builtin(global_invocation_id) gid: vec3u) {
-    let t = work_list_texel(gid.x);
-    if t.z == 0u {
+    let id = work_list_id(gid.x);
+    if id.z != 0u {
         return;
     }
-    let id = vec3u(t.xy, 0u);
     var r = reflect_begin(id);
     while reflect_next(&r) {
         reflect_shade(&r, ddgi_irradiance_at(r.hit_p, r.hit_n, -r.dir));

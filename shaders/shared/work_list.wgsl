@@ -31,12 +31,13 @@ fn work_list_push(texel: vec2u) {
     }
 }
 
-// The texel of listed invocation `i`, or none past the end (the last
-// group's spare invocations).
-fn work_list_texel(i: u32) -> vec3u {
+// Listed invocation `i`'s texel, shaped like the entry's global id
+// (x, y, 0), or z = 1 past the end (the last group's spare invocations):
+// `let id = work_list_id(gid.x); if id.z != 0u { return; }`.
+fn work_list_id(i: u32) -> vec3u {
     if i >= atomicLoad(&work_list.count) {
-        return vec3u(0u, 0u, 0u);
+        return vec3u(0u, 0u, 1u);
     }
     let v = work_list.items[i];
-    return vec3u(v & 0xffffu, v >> 16u, 1u);
+    return vec3u(v & 0xffffu, v >> 16u, 0u);
 }
