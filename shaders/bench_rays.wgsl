@@ -23,14 +23,12 @@ fn primary(@builtin(global_invocation_id) id: vec3u) {
     }
     let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
     let hit = trace_closest(frame.camera.origin, rd, INF);
-    if !hit_found(hit) {
-        textureStore(bench_hit, id.xy, vec4f(0.0, 0.0, 0.0, -1.0));
-        textureStore(bench_normal, id.xy, vec4f(0.0));
-        return;
-    }
+    let found = hit_found(hit);
     let n = select(hit.geo_normal, -hit.geo_normal, dot(hit.geo_normal, rd) > 0.0);
-    textureStore(bench_hit, id.xy, vec4f(hit.position, hit.t));
-    textureStore(bench_normal, id.xy, vec4f(n, 0.0));
+    // One store per texture, hit or miss: CPU drivers run both sides of a
+    // branch under a lane mask, so a store on each side costs two.
+    textureStore(bench_hit, id.xy, select(vec4f(0.0, 0.0, 0.0, -1.0), vec4f(hit.position, hit.t), found));
+    textureStore(bench_normal, id.xy, select(vec4f(0.0), vec4f(n, 0.0), found));
 }
 
 // Shadow: out.x = primary distance (inf on a miss), out.y = 1 if occluded.

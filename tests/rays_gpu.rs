@@ -42,31 +42,39 @@ fn check_special_rays(gpu: &glint::gpu::Gpu, scene: &str) {
 /// The GPU traversal finds exactly what testing every primitive finds:
 /// the bench-rays graph's primary hits (point and distance) and its shadow
 /// and diffuse results, with and without the BVH (BRUTE_FORCE), bit for
-/// bit, on a random triangle soup with spheres in it and on a scene file.
+/// bit, on a random triangle soup with spheres in it, on the soup alone
+/// (one mesh: traversal may start at its BLAS, ONE_MESH, or go through
+/// the TLAS; both are checked) and on a scene file.
 #[test]
 fn gpu_bvh_matches_brute_force_bit_for_bit() {
     let Some(gpu) = gpu() else { return };
     let dir = scratch("bvh-vs-brute");
     let obj = dir.join("soup.obj");
     std::fs::write(&obj, random_soup(3000, 7)).expect("write soup");
-    let soup = format!(
-        r#"Scene(
-            camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
-            materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
-            objects: [
-                Mesh(path: "{}", material: "grey"),
-                Sphere(center: (0.2, 0.1, 0.3), radius: 0.25, material: "grey"),
-                Sphere(center: (-0.4, -0.3, -0.2), radius: 0.3, material: "grey"),
-            ],
-        )"#,
-        obj.display()
-    );
+    let soup_with = |spheres: &str| {
+        format!(
+            r#"Scene(
+                camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
+                materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
+                objects: [ Mesh(path: "{}", material: "grey"), {spheres} ],
+            )"#,
+            obj.display()
+        )
+    };
+    let spheres = r#"Sphere(center: (0.2, 0.1, 0.3), radius: 0.25, material: "grey"),
+                     Sphere(center: (-0.4, -0.3, -0.2), radius: 0.3, material: "grey")"#;
     let size = (96, 96);
-    for (name, text) in [("soup", Some(soup)), ("moving-lights", None)] {
+    let cases = [
+        ("soup", Some(soup_with(spheres)), Traversal::Engine),
+        ("soup alone, from its BLAS", Some(soup_with("")), Traversal::OneMesh(true)),
+        ("soup alone, through the TLAS", Some(soup_with("")), Traversal::OneMesh(false)),
+        ("moving-lights", None, Traversal::Engine),
+    ];
+    for (name, text, traversal) in cases {
         let scene = || text.as_deref().map_or_else(|| load_scene("moving-lights.ron"), scene_from);
         for output in ["bench_hit", "bench_out"] {
-            let bvh = bench_rays(gpu, scene(), size, output, false);
-            let brute = bench_rays(gpu, scene(), size, output, true);
+            let bvh = bench_rays(gpu, scene(), size, output, traversal);
+            let brute = bench_rays(gpu, scene(), size, output, Traversal::BruteForce);
             let differ = bvh.data.iter().zip(&brute.data).filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits)).count();
             assert_eq!(differ, 0, "{name}: {differ} pixels of {output} differ between the BVH and brute force");
             if output == "bench_hit" {
@@ -77,13 +85,25 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
     }
 }
 
-fn bench_rays(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, size: (u32, u32), output: &str, brute_force: bool) -> glint::gpu::readback::ImageF32 {
+/// How the bench-rays graph traces: as the engine specialises it for the
+/// scene, with ONE_MESH set either way, or testing every primitive.
+#[derive(Clone, Copy)]
+enum Traversal {
+    Engine,
+    OneMesh(bool),
+    BruteForce,
+}
+
+fn bench_rays(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, size: (u32, u32), output: &str, traversal: Traversal) -> glint::gpu::readback::ImageF32 {
     let options = glint::graph::CompileOptions { output: Some(output.to_string()), ..Default::default() };
     let mut compiled = compile(&scene, &repo().join("passes/bench-rays.ron"), &options);
-    if brute_force {
-        for pass in &mut compiled.schedule.passes {
-            pass.constants.push(("BRUTE_FORCE".into(), 1.0));
-        }
+    let constant = match traversal {
+        Traversal::Engine => None,
+        Traversal::OneMesh(on) => Some(("ONE_MESH", f64::from(u8::from(on)))),
+        Traversal::BruteForce => Some(("BRUTE_FORCE", 1.0)),
+    };
+    for pass in &mut compiled.schedule.passes {
+        pass.constants.extend(constant.map(|(k, v)| (k.to_string(), v)));
     }
     render_compiled(gpu, scene, &compiled, size, 1)
 }

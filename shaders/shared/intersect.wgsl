@@ -265,6 +265,14 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
 // flat loop cost more than the loop itself.
 override FLAT_SCENE: bool = false;
 
+// Set per scene by the engine (`is_one_mesh` in src/scene/buffers.rs): the
+// TLAS is one leaf holding one mesh and nothing else, so traversal starts
+// at that mesh's BLAS. A ray that misses everything still runs every loop
+// of the traversal once under its lane mask, so the TLAS loop and the
+// instance loop around the BLAS cost a single-mesh scene (an OBJ) about a
+// third of its primary rays when most of them miss.
+override ONE_MESH: bool = false;
+
 // Why the loops below look the way they do: SIMD CPU drivers (lavapipe)
 // run every branch of a loop body under a lane mask, taken or not, so an
 // iteration costs the sum of all its paths. The TLAS loop (few steps)
@@ -355,6 +363,12 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
         return brute_force(r, tmax, any_hit);
     }
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
+    if ONE_MESH {
+        // No root box test: the BLAS tests its root's children first thing,
+        // inside the mesh's box, so the hits are the same.
+        traverse_blas(r, load_instance(0u).v.y, tmax, any_hit, &best);
+        return best;
+    }
     let root = load_node(0);
     let t_root = hit_box(r, root.lo.xyz, root.hi.xyz, tmax);
     if t_root < 0.0 {

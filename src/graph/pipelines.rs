@@ -104,7 +104,7 @@ fn layout_entry(b: &ResolvedBinding) -> wgpu::BindGroupLayoutEntry {
 
 /// The constants a pass's pipeline is built with: the graph's, then the
 /// engine's defaults for overrides the shader declares and the graph left
-/// unset (`FLAT_SCENE` and the schedule's specialisations, chosen from the
+/// unset (`FLAT_SCENE`, `ONE_MESH` and the schedule's specialisations, chosen from the
 /// scene).
 pub fn pass_constants(sp: &ScheduledPass, shader: &Shader, engine: &[(&str, f64)]) -> Vec<(String, f64)> {
     let mut constants = sp.constants.clone();

@@ -255,6 +255,17 @@ impl SceneBuffers {
     pub fn is_flat(&self) -> bool {
         self.data.spheres.len() + self.data.triangles.len() <= FLAT_LIMIT
     }
+
+    /// Whether the TLAS holds exactly one instance and it is a mesh (the
+    /// `ONE_MESH` override: traversal starts at that mesh's BLAS). Motion
+    /// moves instances but never adds or removes one.
+    pub fn is_one_mesh(&self) -> bool {
+        is_one_mesh(&self.data)
+    }
+}
+
+fn is_one_mesh(data: &SceneData) -> bool {
+    matches!(data.instances.as_slice(), [only] if only.kind == crate::bvh::scene::INSTANCE_MESH)
 }
 
 #[cfg(test)]
@@ -300,6 +311,18 @@ mod tests {
         let line = wgsl.lines().find(|l| l.starts_with("const SCENE_TEXTURE_WIDTH_LOG2: u32 =")).expect("scene.wgsl declares SCENE_TEXTURE_WIDTH_LOG2");
         let log2: u32 = line.trim_end_matches(';').rsplit('=').next().unwrap().trim().trim_end_matches('u').parse().unwrap();
         assert_eq!(1u32 << log2, SCENE_TEXTURE_WIDTH);
+    }
+
+    #[test]
+    fn one_mesh_means_a_lone_mesh_instance() {
+        use crate::bvh::scene::{InstanceGpu, INSTANCE_MESH, INSTANCE_SPHERE};
+        let inst = |kind| InstanceGpu { kind, index: 1, _pad: [0; 2] };
+        let with = |instances: Vec<InstanceGpu>| SceneData { instances, ..Default::default() };
+        assert!(is_one_mesh(&with(vec![inst(INSTANCE_MESH)])));
+        assert!(!is_one_mesh(&with(vec![])), "an empty scene has no BLAS to start at");
+        assert!(!is_one_mesh(&with(vec![inst(INSTANCE_SPHERE)])));
+        assert!(!is_one_mesh(&with(vec![inst(INSTANCE_MESH), inst(INSTANCE_MESH)])));
+        assert!(!is_one_mesh(&with(vec![inst(INSTANCE_MESH), inst(INSTANCE_SPHERE)])));
     }
 
     #[test]

@@ -21,6 +21,9 @@ use crate::scene::{Scene, SceneData};
 /// scene (unless a graph sets it): whether rays test every primitive
 /// instead of walking the BVH.
 pub const FLAT_SCENE: &str = "FLAT_SCENE";
+/// The override in `shaders/shared/intersect.wgsl` the engine sets from the
+/// scene: whether traversal starts at the BLAS of the scene's only mesh.
+pub const ONE_MESH: &str = "ONE_MESH";
 
 pub struct SceneGpu {
     pub scene: Scene,
@@ -117,7 +120,8 @@ impl SceneGpu {
 
     /// Override constants the engine gives every shader that declares them.
     pub fn engine_constants(&self) -> Vec<(&'static str, f64)> {
-        vec![(FLAT_SCENE, f64::from(u8::from(self.buffers.is_flat())))]
+        let flag = |on: bool| f64::from(u8::from(on));
+        vec![(FLAT_SCENE, flag(self.buffers.is_flat())), (ONE_MESH, flag(self.buffers.is_one_mesh()))]
     }
 
     /// What a scene engine resource binds to; the frame uniform is the
