@@ -80,16 +80,13 @@ fn reflect_select(id: vec3u) {
     }
 }
 
+// Only for the texels reflect_select listed: their surface reflects, so
+// nothing here checks it again.
 fn reflect_begin(id: vec3u) -> Reflection {
     let before = textureLoad(lit_in, id.xy, 0);
     let ids = textureLoad(gbuf_id, id.xy, 0);
     var r: Reflection;
     r.color = before.rgb;
-    if !is_lit_surface(ids) || material_specular(ids.x) <= 0.0 {
-        r.reused = -1.0;
-        r.done = true;
-        return r;
-    }
     r.rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     let m0 = load_material(ids.x);
     r.p = textureLoad(gbuf_pos, id.xy, 0).xyz;
