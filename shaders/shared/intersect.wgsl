@@ -48,6 +48,8 @@ struct Ray {
     is1: vec3<bool>,
     is2: vec3<bool>,
     s: vec3f,
+    // f32::MAX on an axis the ray runs parallel to (|d| < 1e-30), else 0.
+    slack: vec3f,
 }
 
 fn permute(r: Ray, v: vec3f) -> vec3f {
@@ -77,22 +79,21 @@ fn make_ray(o: vec3f, d: vec3f) -> Ray {
         ky = t;
     }
     let k = vec3u(kx, ky, kz);
-    let r = Ray(o, d, safe_inverse(d), k == vec3u(1u), k == vec3u(2u), vec3f(0.0));
+    let slack = select(vec3f(0.0), vec3f(3.40282347e38), abs(d) < vec3f(1e-30));
+    let r = Ray(o, d, safe_inverse(d), k == vec3u(1u), k == vec3u(2u), vec3f(0.0), slack);
     let pd = permute(r, d);
-    return Ray(o, d, r.inv, r.is1, r.is2, vec3f(pd.x / pd.z, pd.y / pd.z, 1.0 / pd.z));
+    return Ray(o, d, r.inv, r.is1, r.is2, vec3f(pd.x / pd.z, pd.y / pd.z, 1.0 / pd.z), slack);
 }
 
-// Entry distance of the box in [0, tmax], or -1 on a miss.
+// Entry distance of the box in [0, tmax], or -1 on a miss. On an axis the
+// ray runs parallel to, `slack` widens the slab to all t: the box is kept
+// whether or not the origin lies between its planes (conservative; an
+// exact inside test per box cost 12% of the primary rays on the 1M knot).
 fn hit_box(r: Ray, bmin: vec3f, bmax: vec3f, tmax: f32) -> f32 {
     let t0 = (bmin - r.o) * r.inv;
     let t1 = (bmax - r.o) * r.inv;
-    // A ray parallel to a slab (zero direction component) is inside it for
-    // all t when its origin lies between the planes, boundaries included.
-    let parallel = abs(r.d) < vec3f(1e-30);
-    let inside = (bmin <= r.o) & (r.o <= bmax);
-    let big = 3.40282347e38;
-    let lo = select(min(t0, t1), select(vec3f(big), vec3f(-big), inside), parallel);
-    let hi = select(max(t0, t1), select(vec3f(-big), vec3f(big), inside), parallel);
+    let lo = min(t0, t1) - r.slack;
+    let hi = max(t0, t1) + r.slack;
     let near = max(max(max(lo.x, lo.y), lo.z), 0.0);
     let far = min(min(min(hi.x, hi.y), hi.z), tmax) * IZE_SCALE;
     return select(-1.0, near, near <= far);
@@ -354,9 +355,10 @@ fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function
 // Traverses the scene. any_hit: stop at the first hit (shadow rays).
 fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     // A NaN or infinite origin or direction is a miss, at once (infinities
-    // would otherwise enter every box at t = 0 and walk the whole tree).
+    // would otherwise enter every box at t = 0 and walk the whole tree), and
+    // so is a zero direction (parallel to every slab, it would keep every box).
     let finite = all(abs(r.o) <= vec3f(3.40282347e38)) && all(abs(r.d) <= vec3f(3.40282347e38));
-    if !finite {
+    if !finite || all(r.d == vec3f(0.0)) {
         return Closest(tmax, NO_HIT, vec2f(0.0));
     }
     if BRUTE_FORCE || FLAT_SCENE {

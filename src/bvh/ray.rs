@@ -29,6 +29,8 @@ pub struct Ray {
     pub inv: Vec3,
     k: [usize; 3],
     s: Vec3,
+    /// f32::MAX on an axis the ray runs parallel to (|d| < 1e-30), else 0.
+    pub slack: Vec3,
 }
 
 /// 1/d with tiny components replaced by +-1e30 (keeps 0 * inf out of the
@@ -48,7 +50,8 @@ impl Ray {
             std::mem::swap(&mut kx, &mut ky);
         }
         let s = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
-        Ray { o, d, inv: safe_inverse(d), k: [kx, ky, kz], s }
+        let slack = Vec3::from(d.to_array().map(|x| if x.abs() < 1e-30 { f32::MAX } else { 0.0 }));
+        Ray { o, d, inv: safe_inverse(d), k: [kx, ky, kz], s, slack }
     }
 }
 
@@ -137,22 +140,16 @@ pub fn hit_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32, tmin: f32, tmax: 
 }
 
 /// Slab test with Ize's conservative far bound; the entry distance if the
-/// box is entered in [0, tmax].
+/// box is entered in [0, tmax]. On an axis the ray runs parallel to (a zero
+/// or tiny direction component) the slab is widened to all t by `slack`:
+/// 0 * 1e30 would make it end at t = 0, and a box is kept whether or not
+/// the origin is between its planes (conservative; cheaper on SIMD CPU
+/// drivers than an exact inside test per box).
 pub fn hit_box(r: &Ray, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
     let t0 = (bmin - r.o) * r.inv;
     let t1 = (bmax - r.o) * r.inv;
-    let mut lo = t0.min(t1);
-    let mut hi = t0.max(t1);
-    // A ray parallel to a slab (a zero direction component) is inside it
-    // for all t when its origin is between the planes, boundaries included,
-    // and never otherwise; 0 * 1e30 would make the slab end at t = 0.
-    for a in 0..3 {
-        if r.d[a].abs() < 1e-30 {
-            let inside = bmin[a] <= r.o[a] && r.o[a] <= bmax[a];
-            lo[a] = if inside { -f32::MAX } else { f32::MAX };
-            hi[a] = if inside { f32::MAX } else { -f32::MAX };
-        }
-    }
+    let lo = t0.min(t1) - r.slack;
+    let hi = t0.max(t1) + r.slack;
     let near = lo.max_element().max(0.0);
     let far = hi.min_element().min(tmax) * IZE_SCALE;
     (near <= far).then_some(near)
@@ -253,7 +250,9 @@ impl Geometry<'_> {
         mut visit: impl FnMut(&Self, u32, u32, &mut Option<Hit>) -> bool,
         best: &mut Option<Hit>,
     ) {
-        let finite = r.o.is_finite() && r.d.is_finite();
+        // NaN, infinite and zero rays miss (a zero direction is parallel to
+        // every slab and would keep every box).
+        let finite = r.o.is_finite() && r.d.is_finite() && r.d != Vec3::ZERO;
         let Some(root) = self.nodes.first().filter(|_| finite) else { return };
         let Some(t_root) = hit_box(r, root.bounds().min, root.bounds().max, tmax) else { return };
         let mut stack = [(0u32, 0.0f32); STACK];

@@ -714,6 +714,24 @@ fn a_ray_in_a_box_face_plane_hits_the_triangles_on_that_face() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
+/// A ray parallel to a slab: `slack` widens that slab to every t, so the
+/// box is kept whether the origin lies between its planes or not (the
+/// conservative answer), and the other axes decide the entry.
+#[test]
+fn a_ray_parallel_to_a_slab_keeps_the_box_on_either_side_of_it() {
+    let (bmin, bmax) = (Vec3::ZERO, Vec3::ONE);
+    for y in [0.0, 0.5, 1.0, 1.0 + 1e-6, -3.0, 1e6] {
+        let r = Ray::new(Vec3::new(-2.0, y, 0.5), Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(super::ray::hit_box(&r, bmin, bmax, INF), Some(2.0), "origin y = {y}");
+    }
+    // So far off that the slab's distances overflow to -inf: culled, which
+    // is exact (a direction component under 1e-30 would enter past 1e60).
+    let far_off = Ray::new(Vec3::new(-2.0, 1e30, 0.5), Vec3::new(1.0, 0.0, 0.0));
+    assert_eq!(super::ray::hit_box(&far_off, bmin, bmax, INF), None);
+    let behind = Ray::new(Vec3::new(2.0, 0.5, 0.5), Vec3::new(1.0, 0.0, 0.0));
+    assert_eq!(super::ray::hit_box(&behind, bmin, bmax, INF), None);
+}
+
 /// Found on the flat mesh: a box (the triangle's, which lies in the box's
 /// face y = 0) is entered at t = 11.212806 after rounding, and the triangle
 /// is hit at t = 11.212804. With tmax = 11.212805 in between, hit_box keeps
