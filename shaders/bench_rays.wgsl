@@ -1,7 +1,7 @@
 // Ray throughput benchmark (`glint bench rays`): one primary ray per pixel
 // through the pixel centre, then per hit one shadow ray (toward a fixed
 // directional light) and one cosine-distributed diffuse ray.
-#import intersect
+#import flat
 #import rng
 #import sampling
 
@@ -22,7 +22,7 @@ fn primary(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
-    let hit = trace_closest(frame.camera.origin, rd, INF);
+    let hit = trace_primary(frame.camera.origin, rd, INF);
     let found = hit_found(hit);
     let n = select(hit.geo_normal, -hit.geo_normal, dot(hit.geo_normal, rd) > 0.0);
     // One store per texture, hit or miss: CPU drivers run both sides of a

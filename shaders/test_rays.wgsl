@@ -1,8 +1,9 @@
 // The GPU side of the ray robustness tests (tests/rays_gpu.rs): every
 // combination of special values (0, -0, NaN, +-Inf, 1, -1, 1e-30) in the
 // ray origin and direction, traced against the scene. Each pixel writes
-// (closest found, any found, t, steps-completed flag).
-#import intersect
+// (closest found, any found, t, w): w is 1 when the traces finished and
+// trace_primary found what trace_closest found, 2 when it did not.
+#import flat
 
 @group(0) @binding(0) var ray_result: texture_storage_2d<rgba32float, write>;
 
@@ -29,5 +30,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let d = vec3f(special((k >> 9u) & 7u), special((k >> 12u) & 7u), special((k >> 15u) & 7u));
     let h = trace_closest(o, d, 3.0e38);
     let any = trace_any(o, d, 3.0e38);
-    textureStore(ray_result, id.xy, vec4f(select(0.0, 1.0, hit_found(h)), select(0.0, 1.0, any), h.t, 1.0));
+    let p = trace_primary(o, d, 3.0e38);
+    let agree = bitcast<u32>(p.t) == bitcast<u32>(h.t) && p.object == h.object;
+    textureStore(ray_result, id.xy, vec4f(select(0.0, 1.0, hit_found(h)), select(0.0, 1.0, any), h.t, select(2.0, 1.0, agree)));
 }

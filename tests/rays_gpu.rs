@@ -23,6 +23,7 @@ fn check_special_rays(gpu: &glint::gpu::Gpu, scene: &str) {
         let v = |shift: usize| special[(k >> shift) & 7];
         let o = [v(0), v(3), v(6)];
         let d = [v(9), v(12), v(15)];
+        assert_ne!(px[3], 2.0, "ray {k} o={o:?} d={d:?}: trace_primary and trace_closest disagree");
         assert_eq!(px[3], 1.0, "ray {k} did not finish");
         let finite = o.iter().chain(d.iter()).all(|x| x.is_finite());
         // Only rays with an origin inside the box region and a real
@@ -66,6 +67,7 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
     let size = (96, 96);
     let cases = [
         ("soup", Some(soup_with(spheres)), Traversal::Engine),
+        ("cornell, flat: primary rays by the written-out sweep", Some(std::fs::read_to_string(repo().join("scenes/cornell.ron")).expect("read cornell")), Traversal::Engine),
         ("soup alone, from its BLAS", Some(soup_with("")), Traversal::OneMesh(true)),
         ("soup alone, through the TLAS", Some(soup_with("")), Traversal::OneMesh(false)),
         ("moving-lights", None, Traversal::Engine),

@@ -314,6 +314,19 @@ mod tests {
     }
 
     #[test]
+    fn flat_sweep_writes_out_every_slot() {
+        let wgsl = include_str!("../../shaders/shared/flat.wgsl");
+        assert!(wgsl.contains(&format!("const FLAT_SLOTS: u32 = {FLAT_LIMIT}u;")), "flat.wgsl has FLAT_LIMIT slots of each kind");
+        // Four slots a call, by hand (flat_sweep): a flat scene may be all
+        // spheres or all triangles.
+        for kind in ["flat_spheres4", "flat_triangles4"] {
+            for k in (0..FLAT_LIMIT).step_by(4) {
+                assert!(wgsl.contains(&format!("    {kind}(r, {k}u, tmax, &best);")), "flat_sweep skips {kind} slot {k}");
+            }
+        }
+    }
+
+    #[test]
     fn one_mesh_means_a_lone_mesh_instance() {
         use crate::bvh::scene::{InstanceGpu, INSTANCE_MESH, INSTANCE_SPHERE};
         let inst = |kind| InstanceGpu { kind, index: 1, _pad: [0; 2] };

@@ -24,6 +24,11 @@ pub const FLAT_SCENE: &str = "FLAT_SCENE";
 /// The override in `shaders/shared/intersect.wgsl` the engine sets from the
 /// scene: whether traversal starts at the BLAS of the scene's only mesh.
 pub const ONE_MESH: &str = "ONE_MESH";
+/// The overrides in `shaders/shared/flat.wgsl` the engine sets from the
+/// scene: how many spheres and triangles a flat scene has (0 otherwise), so
+/// the primary-ray sweep there tests exactly those.
+pub const FLAT_SPHERES: &str = "FLAT_SPHERES";
+pub const FLAT_TRIANGLES: &str = "FLAT_TRIANGLES";
 
 pub struct SceneGpu {
     pub scene: Scene,
@@ -121,7 +126,14 @@ impl SceneGpu {
     /// Override constants the engine gives every shader that declares them.
     pub fn engine_constants(&self) -> Vec<(&'static str, f64)> {
         let flag = |on: bool| f64::from(u8::from(on));
-        vec![(FLAT_SCENE, flag(self.buffers.is_flat())), (ONE_MESH, flag(self.buffers.is_one_mesh()))]
+        let flat = self.buffers.is_flat();
+        let count = |n: usize| if flat { n as f64 } else { 0.0 };
+        vec![
+            (FLAT_SCENE, flag(flat)),
+            (ONE_MESH, flag(self.buffers.is_one_mesh())),
+            (FLAT_SPHERES, count(self.buffers.data.spheres.len())),
+            (FLAT_TRIANGLES, count(self.buffers.data.triangles.len())),
+        ]
     }
 
     /// What a scene engine resource binds to; the frame uniform is the

@@ -1,0 +1,88 @@
+// The primary-ray sweep of a flat scene (at most FLAT_LIMIT primitives,
+// src/scene/buffers.rs), written out slot by slot instead of looped: the
+// engine's counts (FLAT_SPHERES, FLAT_TRIANGLES) fold the unused slots
+// away, and each texel load has a constant address. At the top level of a
+// shader this takes 0.71x the time of the loop on lavapipe (the gbuffer
+// pass at 1280x720: 30 against 42 ms). Inside a loop or a branch it costs
+// more than the loop (lights_point 54-77 against 38 ms): there every
+// value the straight code computes is written under the lane mask, and a
+// loop's last, fully masked trip runs all of it again. So only
+// trace_primary (below) takes it.
+#import intersect
+
+// Slots of each kind written out below (FLAT_LIMIT in src/scene/buffers.rs).
+const FLAT_SLOTS: u32 = 32u;
+
+// How many slots of each kind hold primitives: set by the engine from the
+// scene (0 where it is not flat, which leaves no test at all).
+override FLAT_SPHERES: u32 = 0u;
+override FLAT_TRIANGLES: u32 = 0u;
+
+fn flat_sphere(r: Ray, k: u32, tmax: f32, best: ptr<function, Closest>) {
+    if k < FLAT_SPHERES {
+        test_sphere(r, k, tmax, false, best);
+    }
+}
+
+fn flat_triangle(r: Ray, k: u32, tmax: f32, best: ptr<function, Closest>) {
+    if k < FLAT_TRIANGLES {
+        let tri = load_triangle(k);
+        let h = hit_triangle(r, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up((*best).t));
+        if h.x > 0.0 && h.x < tmax && closer(h.x, k, *best) {
+            *best = Closest(h.x, k, h.yz);
+        }
+    }
+}
+
+fn flat_spheres4(r: Ray, k: u32, tmax: f32, best: ptr<function, Closest>) {
+    flat_sphere(r, k, tmax, best);
+    flat_sphere(r, k + 1u, tmax, best);
+    flat_sphere(r, k + 2u, tmax, best);
+    flat_sphere(r, k + 3u, tmax, best);
+}
+
+fn flat_triangles4(r: Ray, k: u32, tmax: f32, best: ptr<function, Closest>) {
+    flat_triangle(r, k, tmax, best);
+    flat_triangle(r, k + 1u, tmax, best);
+    flat_triangle(r, k + 2u, tmax, best);
+    flat_triangle(r, k + 3u, tmax, best);
+}
+
+// The closest hit in (0, tmax) among the flat scene's primitives, ties to
+// the lower id: what brute_force finds, bit for bit.
+fn flat_sweep(r: Ray, tmax: f32) -> Closest {
+    var best = Closest(tmax, NO_HIT, vec2f(0.0));
+    flat_spheres4(r, 0u, tmax, &best);
+    flat_spheres4(r, 4u, tmax, &best);
+    flat_spheres4(r, 8u, tmax, &best);
+    flat_spheres4(r, 12u, tmax, &best);
+    flat_spheres4(r, 16u, tmax, &best);
+    flat_spheres4(r, 20u, tmax, &best);
+    flat_spheres4(r, 24u, tmax, &best);
+    flat_spheres4(r, 28u, tmax, &best);
+    flat_triangles4(r, 0u, tmax, &best);
+    flat_triangles4(r, 4u, tmax, &best);
+    flat_triangles4(r, 8u, tmax, &best);
+    flat_triangles4(r, 12u, tmax, &best);
+    flat_triangles4(r, 16u, tmax, &best);
+    flat_triangles4(r, 20u, tmax, &best);
+    flat_triangles4(r, 24u, tmax, &best);
+    flat_triangles4(r, 28u, tmax, &best);
+    return best;
+}
+
+// trace_closest for a shader's one ray outside any loop or branch (the
+// G-buffer's primary ray): flat scenes then take the written-out sweep
+// above, which costs more than the loop anywhere else. The same hits.
+fn trace_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
+    if BRUTE_FORCE || !FLAT_SCENE {
+        return trace_closest(ro, rd, tmax);
+    }
+    // No branch around the sweep: an untraceable ray sweeps too (it hits
+    // nothing there; a zero direction's tests give NaN) and is then a miss.
+    let r = make_ray(ro, rd);
+    let c = flat_sweep(r, tmax);
+    let ok = traceable(r);
+    return closest_hit(Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv), ro, rd, tmax);
+}
+
