@@ -86,3 +86,54 @@ fn trace_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     return closest_hit(Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv), ro, rd, tmax);
 }
 
+// A ray's closest hit and a shadow ray's verdict, traced together.
+struct PairHit {
+    hit: Hit,
+    // Whether anything lies on the shadow ray in (0, shadow_tmax).
+    blocked: bool,
+}
+
+// The closest hit along ro + t rd and whether anything blocks the shadow
+// ray ro + t sd in (0, shadow_tmax) (0: no shadow ray). Flat scenes load
+// each primitive once for both rays, in one loop (the loads are most of a
+// flat ray's cost); elsewhere these are two traversals. The same answers
+// as trace_closest and trace_any, bit for bit.
+fn trace_pair(ro: vec3f, rd: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
+    if BRUTE_FORCE || !FLAT_SCENE {
+        return PairHit(trace_closest(ro, rd, 3.0e38), shadow_tmax > 0.0 && trace_any(ro, sd, shadow_tmax));
+    }
+    let a = make_ray(ro, rd);
+    let b = make_ray(ro, sd);
+    let tmax = 3.0e38;
+    var best = Closest(tmax, NO_HIT, vec2f(0.0));
+    var blocked = false;
+    // The shadow ray's tests as brute_force's: bound next_up(tmax), then < tmax.
+    let shadow_bound = next_up(shadow_tmax);
+    if SCENE_SPHERES {
+        for (var i = 0u; i < frame.n_spheres; i++) {
+            let s = load_sphere(i);
+            let t = ray_sphere(a.o, a.d, s.geo.xyz, s.geo.w, 0.0, next_up(best.t));
+            let prim = i | SPHERE_BIT;
+            if t > 0.0 && t < tmax && closer(t, prim, best) {
+                best = Closest(t, prim, vec2f(0.0));
+            }
+            let ts = ray_sphere(b.o, b.d, s.geo.xyz, s.geo.w, 0.0, shadow_bound);
+            blocked = blocked || (ts > 0.0 && ts < shadow_tmax);
+        }
+    }
+    if SCENE_MESHES {
+        for (var i = 0u; i < frame.n_triangles; i++) {
+            let tri = load_triangle(i);
+            let h = hit_triangle(a, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up(best.t));
+            if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
+                best = Closest(h.x, i, h.yz);
+            }
+            let hs = hit_triangle(b, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, shadow_bound);
+            blocked = blocked || (hs.x > 0.0 && hs.x < shadow_tmax);
+        }
+    }
+    // Rays traverse() would refuse (NaN, infinite, zero) miss.
+    let ok = traceable(a);
+    let c = Closest(select(tmax, best.t, ok), select(NO_HIT, best.prim, ok), best.uv);
+    return PairHit(closest_hit(c, ro, rd, tmax), blocked && traceable(b));
+}

@@ -64,7 +64,12 @@ fn light_pdf(l: Light, p: vec3f) -> f32 {
 
 // Whether the light sample is visible from the offset origin `o`.
 fn light_visible(o: vec3f, s: LightSample) -> bool {
-    return !trace_any(o, s.dir, s.dist * (1.0 - 1e-4));
+    return !trace_any(o, s.dir, shadow_ray_length(s));
+}
+
+// How far a shadow ray toward the sample goes: just short of the light.
+fn shadow_ray_length(s: LightSample) -> f32 {
+    return s.dist * (1.0 - 1e-4);
 }
 
 // Replaces the physical 1/d^2 with the thesis's exponential when falloff

@@ -3,6 +3,7 @@
 // diffuse one by `roughness`). Next-event estimation on the diffuse lobe,
 // combined with BSDF sampling by the power heuristic. Shared by the path
 // tracer and the probe bakes (shaders/probes_*.wgsl).
+#import flat
 #import lights
 #import rng
 
@@ -37,8 +38,11 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
     // is weighted against NEE), or a negative value (camera / specular).
     var bsdf_pdf = -1.0;
     var prev_p = ro;
+    // The hit of the ray in hand: the camera ray's traced here, each
+    // bounce's at the end of the bounce before, with that bounce's last
+    // shadow ray (trace_pair: one loop over a flat scene for both).
+    var hit = trace_closest(ro, rd, 3.0e38);
     for (var depth = 0u; depth < max_depth; depth++) {
-        let hit = trace_closest(ro, rd, 3.0e38);
         if depth == 0u {
             path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
             let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
@@ -64,6 +68,13 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
         let ng = f.ng;
         let n = f.n;
         let o = offset_ray(p, ng);
+        // The last light's shadow ray, traced with the next bounce's ray;
+        // its light counts if nothing blocks it (added last, as the loop
+        // would have).
+        var shadow_dir = n;
+        var shadow_tmax = 0.0;
+        var shadowed_light = vec3f(0.0);
+        var go_on = true;
         // Drawn whether or not the scene has specular surfaces, so a
         // specialised shader draws the same random numbers as a generic one.
         let u_lobe = rand_f32(rng);
@@ -72,46 +83,62 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
             if m.roughness > 0.0 {
                 dir = sample_glossy(dir, n, m.roughness, rand2(rng));
             }
-            if dot(dir, ng) <= 0.0 {
-                break;
+            go_on = dot(dir, ng) > 0.0;
+            if go_on {
+                throughput *= m.albedo;
+                bsdf_pdf = -1.0;
+                rd = dir;
             }
-            throughput *= m.albedo;
-            bsdf_pdf = -1.0;
-            rd = dir;
         } else {
             // Next-event estimation: every light, one sample each.
             for (var i = 0u; i < light_count(); i++) {
                 let l = load_light(i);
                 let s = sample_light(l, o, rand2(rng));
                 let cos_n = dot(n, s.dir);
-                if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 || !light_visible(o, s) {
+                if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 {
                     continue;
                 }
                 var w = 1.0;
                 if s.pdf > 0.0 {
                     w = power_heuristic(s.pdf, cos_n / PI);
                 }
-                result += throughput * m.albedo / PI * s.weight * cos_n * w;
+                let light = throughput * m.albedo / PI * s.weight * cos_n * w;
+                if i + 1u == light_count() {
+                    shadow_dir = s.dir;
+                    shadow_tmax = shadow_ray_length(s);
+                    shadowed_light = light;
+                } else if light_visible(o, s) {
+                    result += light;
+                }
             }
             let dir = sample_cosine(n, rand2(rng));
             let cos_d = dot(n, dir);
-            if dot(dir, ng) <= 0.0 || cos_d <= 0.0 {
-                break;
+            go_on = dot(dir, ng) > 0.0 && cos_d > 0.0;
+            if go_on {
+                throughput *= m.albedo;
+                bsdf_pdf = cos_d / PI;
+                rd = dir;
             }
-            throughput *= m.albedo;
-            bsdf_pdf = cos_d / PI;
-            rd = dir;
         }
-        prev_p = o;
-        ro = o;
-        if depth + 1u >= rr_depth {
-            let q = min(max3(throughput), 0.95);
-            if rand_f32(rng) >= q {
-                break;
+        if go_on {
+            prev_p = o;
+            ro = o;
+            if depth + 1u >= rr_depth {
+                let q = min(max3(throughput), 0.95);
+                go_on = rand_f32(rng) < q;
+                if go_on {
+                    throughput /= q;
+                }
             }
-            throughput /= q;
         }
+        let next = trace_pair(o, rd, shadow_dir, shadow_tmax);
+        if !next.blocked {
+            result += shadowed_light;
+        }
+        if !go_on {
+            break;
+        }
+        hit = next.hit;
     }
     return finite_or_zero(result);
 }
-
