@@ -2,7 +2,8 @@
 // combination of special values (0, -0, NaN, +-Inf, 1, -1, 1e-30) in the
 // ray origin and direction, traced against the scene. Each pixel writes
 // (closest found, any found, t, w): w is 1 when the traces finished and
-// trace_primary found what trace_closest found, 2 when it did not.
+// trace_primary and trace_pair found what trace_closest and trace_any
+// found, 2 when they did not.
 #import flat
 
 @group(0) @binding(0) var ray_result: texture_storage_2d<rgba32float, write>;
@@ -31,6 +32,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let h = trace_closest(o, d, 3.0e38);
     let any = trace_any(o, d, 3.0e38);
     let p = trace_primary(o, d, 3.0e38);
-    let agree = bitcast<u32>(p.t) == bitcast<u32>(h.t) && p.object == h.object;
+    // trace_pair along the ray itself: its hit and its shadow verdict.
+    let pair = trace_pair(o, d, d, 3.0e38);
+    let agree = bitcast<u32>(p.t) == bitcast<u32>(h.t) && p.object == h.object
+        && bitcast<u32>(pair.hit.t) == bitcast<u32>(h.t) && pair.hit.object == h.object && pair.blocked == any;
     textureStore(ray_result, id.xy, vec4f(select(0.0, 1.0, hit_found(h)), select(0.0, 1.0, any), h.t, select(2.0, 1.0, agree)));
 }

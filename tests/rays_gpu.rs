@@ -23,7 +23,7 @@ fn check_special_rays(gpu: &glint::gpu::Gpu, scene: &str) {
         let v = |shift: usize| special[(k >> shift) & 7];
         let o = [v(0), v(3), v(6)];
         let d = [v(9), v(12), v(15)];
-        assert_ne!(px[3], 2.0, "ray {k} o={o:?} d={d:?}: trace_primary and trace_closest disagree");
+        assert_ne!(px[3], 2.0, "ray {k} o={o:?} d={d:?}: trace_primary or trace_pair disagrees with trace_closest and trace_any");
         assert_eq!(px[3], 1.0, "ray {k} did not finish");
         let finite = o.iter().chain(d.iter()).all(|x| x.is_finite());
         // Only rays with an origin inside the box region and a real
