@@ -109,8 +109,10 @@ fn trace_pair(ro: vec3f, rd: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
     var blocked = false;
     // The shadow ray's tests as brute_force's: bound next_up(tmax), then < tmax.
     let shadow_bound = next_up(shadow_tmax);
-    if SCENE_SPHERES {
-        for (var i = 0u; i < frame.n_spheres; i++) {
+    // Loops that test at the bottom (see brute_force).
+    if SCENE_SPHERES && frame.n_spheres > 0u {
+        var i = 0u;
+        loop {
             let s = load_sphere(i);
             let t = ray_sphere(a.o, a.d, s.geo.xyz, s.geo.w, 0.0, next_up(best.t));
             let prim = i | SPHERE_BIT;
@@ -119,10 +121,15 @@ fn trace_pair(ro: vec3f, rd: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
             }
             let ts = ray_sphere(b.o, b.d, s.geo.xyz, s.geo.w, 0.0, shadow_bound);
             blocked = blocked || (ts > 0.0 && ts < shadow_tmax);
+            continuing {
+                i++;
+                break if i >= frame.n_spheres;
+            }
         }
     }
-    if SCENE_MESHES {
-        for (var i = 0u; i < frame.n_triangles; i++) {
+    if SCENE_MESHES && frame.n_triangles > 0u {
+        var i = 0u;
+        loop {
             let tri = load_triangle(i);
             let h = hit_triangle(a, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up(best.t));
             if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
@@ -130,6 +137,10 @@ fn trace_pair(ro: vec3f, rd: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
             }
             let hs = hit_triangle(b, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, shadow_bound);
             blocked = blocked || (hs.x > 0.0 && hs.x < shadow_tmax);
+            continuing {
+                i++;
+                break if i >= frame.n_triangles;
+            }
         }
     }
     // Rays traverse() would refuse (NaN, infinite, zero) miss.

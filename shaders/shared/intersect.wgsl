@@ -214,12 +214,21 @@ fn closer(t: f32, prim: u32, best: Closest) -> bool {
 // scenes (FLAT_SCENE below).
 override BRUTE_FORCE: bool = false;
 
+// Its loops test their count at the bottom (`continuing { break if }`): a
+// `for` loop tests at the top, so on SIMD CPU drivers its last trip runs
+// the whole body under an empty lane mask before the loop sees that every
+// lane has left. The path tracer took 0.95x the time without that trip.
 fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
-    if SCENE_SPHERES {
-        for (var i = 0u; i < frame.n_spheres; i++) {
+    if SCENE_SPHERES && frame.n_spheres > 0u {
+        var i = 0u;
+        loop {
             if test_sphere(r, i, tmax, any_hit, &best) {
                 return best;
+            }
+            continuing {
+                i++;
+                break if i >= frame.n_spheres;
             }
         }
     }
@@ -244,7 +253,11 @@ fn test_sphere(r: Ray, i: u32, tmax: f32, any_hit: bool, best: ptr<function, Clo
 // Tests triangles first .. first + count into `best`; true when any_hit
 // and something was hit (stop).
 fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
-    for (var i = first; i < first + count; i++) {
+    if count == 0u {
+        return false;
+    }
+    var i = first;
+    loop {
         let tri = load_triangle(i);
         let h = hit_triangle(r, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up((*best).t));
         if h.x > 0.0 && h.x < tmax && closer(h.x, i, *best) {
@@ -252,6 +265,10 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
             if any_hit {
                 return true;
             }
+        }
+        continuing {
+            i++;
+            break if i >= first + count;
         }
     }
     return false;
