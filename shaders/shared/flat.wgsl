@@ -93,18 +93,23 @@ struct PairHit {
     blocked: bool,
 }
 
-// The closest hit along ro + t rd and whether anything blocks the shadow
-// ray ro + t sd in (0, shadow_tmax) (0: no shadow ray). Flat scenes load
+// The closest hit along ro + t rd (a miss without `want_hit`) and whether
+// anything blocks the shadow ray ro + t sd in (0, shadow_tmax) (0: no
+// shadow ray). Flat scenes load
 // each primitive once for both rays, in one loop (the loads are most of a
 // flat ray's cost); elsewhere these are two traversals. The same answers
 // as trace_closest and trace_any, bit for bit.
-fn trace_pair(ro: vec3f, rd: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
+fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, sd: vec3f, shadow_tmax: f32) -> PairHit {
+    let tmax = 3.0e38;
     if BRUTE_FORCE || !FLAT_SCENE {
-        return PairHit(trace_closest(ro, rd, 3.0e38), shadow_tmax > 0.0 && trace_any(ro, sd, shadow_tmax));
+        var hit = no_hit(tmax);
+        if want_hit {
+            hit = trace_closest(ro, rd, tmax);
+        }
+        return PairHit(hit, shadow_tmax > 0.0 && trace_any(ro, sd, shadow_tmax));
     }
     let a = make_ray(ro, rd);
     let b = make_ray(ro, sd);
-    let tmax = 3.0e38;
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
     var blocked = false;
     // The shadow ray's tests as brute_force's: bound next_up(tmax), then < tmax.
@@ -143,8 +148,9 @@ fn trace_pair(ro: vec3f, rd: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
             }
         }
     }
-    // Rays traverse() would refuse (NaN, infinite, zero) miss.
-    let ok = traceable(a);
+    // Rays traverse() would refuse (NaN, infinite, zero) miss. The loop
+    // ran for every lane anyway; the hit is dropped where none is wanted.
+    let ok = want_hit && traceable(a);
     let c = Closest(select(tmax, best.t, ok), select(NO_HIT, best.prim, ok), best.uv);
     return PairHit(closest_hit(c, ro, rd, tmax), blocked && traceable(b));
 }

@@ -30,18 +30,17 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 // light passes shade is left out: indirect light at a probe; emissive
 // surfaces still count, as no light pass samples them).
 fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> vec3f {
-    var ro = ro_in;
     var rd = rd_in;
     var throughput = vec3f(1.0);
     var result = vec3f(0.0);
     // The BSDF pdf of the last bounce if it was diffuse (then a light hit
     // is weighted against NEE), or a negative value (camera / specular).
     var bsdf_pdf = -1.0;
-    var prev_p = ro;
+    var prev_p = ro_in;
     // The hit of the ray in hand: the camera ray's traced here, each
     // bounce's at the end of the bounce before, with that bounce's last
     // shadow ray (trace_pair: one loop over a flat scene for both).
-    var hit = trace_closest(ro, rd, 3.0e38);
+    var hit = trace_closest(ro_in, rd, 3.0e38);
     for (var depth = 0u; depth < max_depth; depth++) {
         if depth == 0u {
             path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
@@ -83,7 +82,8 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
             if m.roughness > 0.0 {
                 dir = sample_glossy(dir, n, m.roughness, rand2(rng));
             }
-            go_on = dot(dir, ng) > 0.0;
+            // (Written as the negated stop test: a NaN goes on, as it did.)
+            go_on = !(dot(dir, ng) <= 0.0);
             if go_on {
                 throughput *= m.albedo;
                 bsdf_pdf = -1.0;
@@ -113,7 +113,7 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
             }
             let dir = sample_cosine(n, rand2(rng));
             let cos_d = dot(n, dir);
-            go_on = dot(dir, ng) > 0.0 && cos_d > 0.0;
+            go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0);
             if go_on {
                 throughput *= m.albedo;
                 bsdf_pdf = cos_d / PI;
@@ -122,16 +122,16 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
         }
         if go_on {
             prev_p = o;
-            ro = o;
             if depth + 1u >= rr_depth {
                 let q = min(max3(throughput), 0.95);
-                go_on = rand_f32(rng) < q;
+                go_on = !(rand_f32(rng) >= q);
                 if go_on {
                     throughput /= q;
                 }
             }
         }
-        let next = trace_pair(o, rd, shadow_dir, shadow_tmax);
+        // A path that ends here (or at max_depth) needs no next hit.
+        let next = trace_pair(o, rd, go_on && depth + 1u < max_depth, shadow_dir, shadow_tmax);
         if !next.blocked {
             result += shadowed_light;
         }
