@@ -31,14 +31,14 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var src: texture_2d<f32>;
-@group(0) @binding(2) var accum_prev: texture_2d<f32>;
+@group(0) @binding(1) var src: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var accum_prev: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(3) var accum: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(4) var gbuf_pos: texture_2d<f32>;
-@group(0) @binding(5) var gbuf_normal: texture_2d<f32>;
-@group(0) @binding(6) var geo_prev: texture_2d<f32>;
+@group(0) @binding(4) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(5) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+@group(0) @binding(6) var geo_prev: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(7) var geo: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(8) var comp_prev: texture_2d<u32>;
+@group(0) @binding(8) var comp_prev: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(9) var comp: texture_storage_2d<rgba32uint, write>;
 
 // A pixel's history: its mean and how many samples made it.
@@ -48,8 +48,8 @@ struct History {
 }
 
 fn load_history(q: vec2i) -> History {
-    let c = textureLoad(comp_prev, q, 0);
-    let m = Mean(textureLoad(accum_prev, q, 0).rgb, bitcast<vec3f>(c.rgb));
+    let c = textureLoad(comp_prev, q);
+    let m = Mean(textureLoad(accum_prev, q).rgb, bitcast<vec3f>(c.rgb));
     // History that is not finite (it should never be) starts over.
     if !all_finite(m.value) || !all_finite(m.comp) {
         return History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
@@ -136,7 +136,7 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> Histor
         }
         // A still camera sees the same footprint: no test needed (it would
         // otherwise reject silhouette pixels whose jittered samples differ).
-        if !still && !agrees(q, textureLoad(geo_prev, q, 0), g.xyz, n, miss) {
+        if !still && !agrees(q, textureLoad(geo_prev, q), g.xyz, n, miss) {
             continue;
         }
         let h = load_history(q);
@@ -156,9 +156,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let sample = clean_sample(textureLoad(src, id.xy, 0).rgb, params.clamp_max);
-    let g = textureLoad(gbuf_pos, id.xy, 0);
-    let nw = textureLoad(gbuf_normal, id.xy, 0);
+    let sample = clean_sample(textureLoad(src, id.xy).rgb, params.clamp_max);
+    let g = textureLoad(gbuf_pos, id.xy);
+    let nw = textureLoad(gbuf_normal, id.xy);
     let n = nw.xyz;
     var history = History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
     if params.mode == 0u {

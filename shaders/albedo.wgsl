@@ -3,7 +3,7 @@
 // Also seeds `lit` with what needs no lighting: emission and background.
 #import scene
 
-@group(0) @binding(0) var gbuf_id: texture_2d<u32>;
+@group(0) @binding(0) var gbuf_id: texture_storage_2d<rg32uint, read>;
 @group(0) @binding(1) var albedo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var lit: texture_storage_2d<rgba32float, write>;
 
@@ -12,7 +12,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let ids = textureLoad(gbuf_id, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy);
     let miss = ids.y == NO_OBJECT;
     // One store per texture, chosen by select: CPU drivers run every
     // branch under a lane mask, so a store in each would cost three.

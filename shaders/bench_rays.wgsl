@@ -7,10 +7,10 @@
 
 @group(0) @binding(0) var bench_hit: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(1) var bench_normal: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(2) var hit_in: texture_2d<f32>;
-@group(0) @binding(3) var normal_in: texture_2d<f32>;
+@group(0) @binding(2) var hit_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var normal_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(4) var bench_out: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(5) var out_in: texture_2d<f32>;
+@group(0) @binding(5) var out_in: texture_storage_2d<rgba32float, read>;
 
 const SUN: vec3f = vec3f(0.28734789, 0.95782629, 0.19156526);
 const INF: f32 = 3.0e38;
@@ -37,12 +37,12 @@ fn shadow(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let h = textureLoad(hit_in, id.xy, 0);
+    let h = textureLoad(hit_in, id.xy);
     if h.w < 0.0 {
         textureStore(bench_out, id.xy, vec4f(bitcast<f32>(0x7f800000u), 0.0, 0.0, 0.0));
         return;
     }
-    let n = textureLoad(normal_in, id.xy, 0).xyz;
+    let n = textureLoad(normal_in, id.xy).xyz;
     let o = offset_ray(h.xyz, n);
     let blocked = dot(n, SUN) <= 0.0 || trace_any(o, SUN, INF);
     textureStore(bench_out, id.xy, vec4f(h.w, select(0.0, 1.0, blocked), 0.0, 0.0));
@@ -54,13 +54,13 @@ fn diffuse(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let before = textureLoad(out_in, id.xy, 0);
-    let h = textureLoad(hit_in, id.xy, 0);
+    let before = textureLoad(out_in, id.xy);
+    let h = textureLoad(hit_in, id.xy);
     if h.w < 0.0 {
         textureStore(bench_out, id.xy, before);
         return;
     }
-    let n = textureLoad(normal_in, id.xy, 0).xyz;
+    let n = textureLoad(normal_in, id.xy).xyz;
     var rng = rng_for(id.xy, frame.frame_index, 0x62656e63u, frame.seed);
     let dir = sample_cosine(n, rand2(&rng));
     let hit = trace_closest(offset_ray(h.xyz, n), dir, INF);

@@ -10,7 +10,7 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var src: texture_2d<f32>;
+@group(0) @binding(1) var src: texture_storage_2d<r32float, read>;
 @group(0) @binding(2) var dst: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(64, 1)
@@ -26,7 +26,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     for (var k = -r; k <= r; k++) {
         let q = clamp(vec2i(id.xy) + k * step, vec2i(0), vec2i(frame.size) - 1);
         let w = exp(-f32(k * k) * inv);
-        sum += w * textureLoad(src, q, 0).x;
+        sum += w * textureLoad(src, q).x;
         weight += w;
     }
     textureStore(dst, id.xy, vec4f(sum / weight, 0.0, 0.0, 1.0));

@@ -11,11 +11,11 @@
 #import ddgi_volume
 #import lights
 
-@group(0) @binding(0) var gbuf_pos: texture_2d<f32>;
-@group(0) @binding(1) var gbuf_normal: texture_2d<f32>;
-@group(0) @binding(2) var gbuf_id: texture_2d<u32>;
-@group(0) @binding(3) var albedo: texture_2d<f32>;
-@group(0) @binding(4) var lit_in: texture_2d<f32>;
+@group(0) @binding(0) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(1) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+@group(0) @binding(2) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(3) var albedo: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var thesis_irradiance: texture_storage_2d<rgba32float, read>;
 
@@ -54,14 +54,14 @@ struct Surface {
 }
 
 fn surface(id: vec3u) -> Surface {
-    let before = textureLoad(lit_in, id.xy, 0);
-    let ids = textureLoad(gbuf_id, id.xy, 0);
+    let before = textureLoad(lit_in, id.xy);
+    let ids = textureLoad(gbuf_id, id.xy);
     if !is_lit_surface(ids) {
         return Surface(false, vec3f(0.0), vec3f(0.0), vec3f(0.0), before);
     }
-    let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
-    let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - material_specular(ids.x));
+    let p = textureLoad(gbuf_pos, id.xy).xyz;
+    let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
+    let base = textureLoad(albedo, id.xy).rgb * (1.0 - material_specular(ids.x));
     return Surface(true, p, n, base, before);
 }
 

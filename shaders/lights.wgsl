@@ -17,11 +17,11 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var gbuf_pos: texture_2d<f32>;
-@group(0) @binding(2) var gbuf_normal: texture_2d<f32>;
-@group(0) @binding(3) var gbuf_id: texture_2d<u32>;
-@group(0) @binding(4) var albedo: texture_2d<f32>;
-@group(0) @binding(5) var lit_in: texture_2d<f32>;
+@group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(4) var albedo: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(5) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(6) var lit: texture_storage_2d<rgba32float, write>;
 
 const SALT: u32 = 0x6c696768u;
@@ -31,13 +31,13 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let before = textureLoad(lit_in, id.xy, 0);
-    let ids = textureLoad(gbuf_id, id.xy, 0);
-    let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
-    let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
+    let before = textureLoad(lit_in, id.xy);
+    let ids = textureLoad(gbuf_id, id.xy);
+    let p = textureLoad(gbuf_pos, id.xy).xyz;
+    let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     // The diffuse share of the surface; the specular share is the
     // reflections pass's to shade.
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - material_specular(ids.x));
+    let base = textureLoad(albedo, id.xy).rgb * (1.0 - material_specular(ids.x));
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2

@@ -12,12 +12,12 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var mask: texture_2d<f32>;
-@group(0) @binding(2) var gbuf_pos: texture_2d<f32>;
-@group(0) @binding(3) var gbuf_normal: texture_2d<f32>;
-@group(0) @binding(4) var gbuf_id: texture_2d<u32>;
-@group(0) @binding(5) var albedo: texture_2d<f32>;
-@group(0) @binding(6) var lit_in: texture_2d<f32>;
+@group(0) @binding(1) var mask: texture_storage_2d<r32float, read>;
+@group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+@group(0) @binding(4) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(5) var albedo: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(6) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(7) var lit: texture_storage_2d<rgba32float, write>;
 
 const SALT: u32 = 0x72656669u;
@@ -29,11 +29,11 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let ids = textureLoad(gbuf_id, id.xy, 0);
-    if textureLoad(mask, id.xy, 0).x >= 0.5 && is_lit_surface(ids) {
+    let ids = textureLoad(gbuf_id, id.xy);
+    if textureLoad(mask, id.xy).x >= 0.5 && is_lit_surface(ids) {
         work_list_push(id.xy);
     } else {
-        textureStore(lit, id.xy, textureLoad(lit_in, id.xy, 0));
+        textureStore(lit, id.xy, textureLoad(lit_in, id.xy));
     }
 }
 
@@ -43,11 +43,11 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     if id.z != 0u {
         return;
     }
-    let before = textureLoad(lit_in, id.xy, 0);
-    let ids = textureLoad(gbuf_id, id.xy, 0);
-    let p = textureLoad(gbuf_pos, id.xy, 0).xyz;
-    let n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
-    let base = textureLoad(albedo, id.xy, 0).rgb * (1.0 - material_specular(ids.x));
+    let before = textureLoad(lit_in, id.xy);
+    let ids = textureLoad(gbuf_id, id.xy);
+    let p = textureLoad(gbuf_pos, id.xy).xyz;
+    let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
+    let base = textureLoad(albedo, id.xy).rgb * (1.0 - material_specular(ids.x));
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);

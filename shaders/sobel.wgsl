@@ -10,9 +10,9 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var lit: texture_2d<f32>;
-@group(0) @binding(2) var gbuf_normal: texture_2d<f32>;
-@group(0) @binding(3) var gbuf_id: texture_2d<u32>;
+@group(0) @binding(1) var lit: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, read>;
 @group(0) @binding(4) var edges: texture_storage_2d<r32float, write>;
 
 fn luminance(c: vec3f) -> f32 {
@@ -24,20 +24,20 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let ids = textureLoad(gbuf_id, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy);
     if !is_lit_surface(ids) {
         textureStore(edges, id.xy, vec4f(0.0));
         return;
     }
-    let n = textureLoad(gbuf_normal, id.xy, 0).xyz;
-    let centre = luminance(textureLoad(lit, id.xy, 0).rgb);
+    let n = textureLoad(gbuf_normal, id.xy).xyz;
+    let centre = luminance(textureLoad(lit, id.xy).rgb);
     var v: array<f32, 9>;
     for (var j = 0; j < 3; j++) {
         for (var i = 0; i < 3; i++) {
             let q = clamp(vec2i(id.xy) + vec2i(i - 1, j - 1), vec2i(0), vec2i(frame.size) - 1);
-            let nq = textureLoad(gbuf_normal, q, 0).xyz;
-            let ok = is_lit_surface(textureLoad(gbuf_id, q, 0)) && dot(n, nq) >= params.normal_cos;
-            v[j * 3 + i] = select(centre, luminance(textureLoad(lit, q, 0).rgb), ok);
+            let nq = textureLoad(gbuf_normal, q).xyz;
+            let ok = is_lit_surface(textureLoad(gbuf_id, q)) && dot(n, nq) >= params.normal_cos;
+            v[j * 3 + i] = select(centre, luminance(textureLoad(lit, q).rgb), ok);
         }
     }
     let gx = (v[2] + 2.0 * v[5] + v[8]) - (v[0] + 2.0 * v[3] + v[6]);

@@ -11,8 +11,8 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var mean_prev: texture_2d<f32>;
-@group(0) @binding(2) var comp_prev: texture_2d<u32>;
+@group(0) @binding(1) var mean_prev: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var comp_prev: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(3) var mean_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(4) var comp_out: texture_storage_2d<rgba32uint, write>;
 
@@ -31,8 +31,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     var m = Mean(vec3f(0.0), vec3f(0.0));
     var count = 0u;
     if frame.frame_index > 0u {
-        let c = textureLoad(comp_prev, id.xy, 0);
-        m = Mean(textureLoad(mean_prev, id.xy, 0).rgb, bitcast<vec3f>(c.rgb));
+        let c = textureLoad(comp_prev, id.xy);
+        m = Mean(textureLoad(mean_prev, id.xy).rgb, bitcast<vec3f>(c.rgb));
         count = c.a;
     }
     let p = id.y * size.x + id.x;

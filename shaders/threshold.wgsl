@@ -9,7 +9,7 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var blurred: texture_2d<f32>;
+@group(0) @binding(1) var blurred: texture_storage_2d<r32float, read>;
 @group(0) @binding(2) var mask: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(64, 1)
@@ -18,6 +18,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let t = select(params.threshold, frame.mask_threshold, params.use_pid == 1u);
-    let e = textureLoad(blurred, id.xy, 0).x;
+    let e = textureLoad(blurred, id.xy).x;
     textureStore(mask, id.xy, vec4f(select(0.0, 1.0, e > t), 0.0, 0.0, 1.0));
 }

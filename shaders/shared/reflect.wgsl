@@ -11,10 +11,10 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var gbuf_pos: texture_2d<f32>;
-@group(0) @binding(2) var gbuf_normal: texture_2d<f32>;
-@group(0) @binding(3) var gbuf_id: texture_2d<u32>;
-@group(0) @binding(4) var lit_in: texture_2d<f32>;
+@group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var reflect_reuse: texture_storage_2d<r32float, write>;
 
@@ -71,11 +71,11 @@ struct Reflection {
 // The pass's own entry, per texel: lists the texels whose surface
 // reflects for the `listed` entry, and passes the others' light through.
 fn reflect_select(id: vec3u) {
-    let ids = textureLoad(gbuf_id, id.xy, 0);
+    let ids = textureLoad(gbuf_id, id.xy);
     if is_lit_surface(ids) && material_specular(ids.x) > 0.0 {
         work_list_push(id.xy);
     } else {
-        textureStore(lit, id.xy, textureLoad(lit_in, id.xy, 0));
+        textureStore(lit, id.xy, textureLoad(lit_in, id.xy));
         textureStore(reflect_reuse, id.xy, vec4f(-1.0, 0.0, 0.0, 1.0));
     }
 }
@@ -83,14 +83,14 @@ fn reflect_select(id: vec3u) {
 // Only for the texels reflect_select listed: their surface reflects, so
 // nothing here checks it again.
 fn reflect_begin(id: vec3u) -> Reflection {
-    let before = textureLoad(lit_in, id.xy, 0);
-    let ids = textureLoad(gbuf_id, id.xy, 0);
+    let before = textureLoad(lit_in, id.xy);
+    let ids = textureLoad(gbuf_id, id.xy);
     var r: Reflection;
     r.color = before.rgb;
     r.rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     let m0 = load_material(ids.x);
-    r.p = textureLoad(gbuf_pos, id.xy, 0).xyz;
-    r.n = normalize(textureLoad(gbuf_normal, id.xy, 0).xyz);
+    r.p = textureLoad(gbuf_pos, id.xy).xyz;
+    r.n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     r.dir = reflect(normalize(r.p - frame.camera.origin), r.n);
     r.atten = m0.specular * m0.albedo;
     r.reused = 0.0;
@@ -125,20 +125,20 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
         if params.reuse == 1u {
             let q = screen_pixel(hit.position);
             if q.x >= 0 {
-                let qid = textureLoad(gbuf_id, q, 0);
-                let qn = textureLoad(gbuf_normal, q, 0).xyz;
+                let qid = textureLoad(gbuf_id, q);
+                let qn = textureLoad(gbuf_normal, q).xyz;
                 // The same object, facing the same way, and the same surface:
                 // the G-buffer point lies on the hit's tangent plane within a
                 // share of the distance from the camera (relative, so it holds
                 // at any scale; a face of the object hidden behind another
                 // face of it projects to the same pixel and is rejected here).
-                let qp = textureLoad(gbuf_pos, q, 0).xyz;
+                let qp = textureLoad(gbuf_pos, q).xyz;
                 let on_plane = abs(dot(qp - hit.position, hn)) <= REUSE_PLANE_TOL * length(hit.position - frame.camera.origin);
                 if qid.y == hit.object && dot(qn, hn) > 0.95 && on_plane {
                     if (*r).depth == 0u {
                         (*r).reused = 1.0;
                     }
-                    reflect_advance(r, textureLoad(lit_in, q, 0).rgb);
+                    reflect_advance(r, textureLoad(lit_in, q).rgb);
                     continue;
                 }
             }

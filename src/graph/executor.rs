@@ -184,10 +184,9 @@ impl Executor {
                     t.label
                 )));
             }
-            let mut usage = wgpu::TextureUsages::COPY_SRC;
-            if t.usage.sampled {
-                usage |= wgpu::TextureUsages::TEXTURE_BINDING;
-            }
+            // Every texture can be sampled, whatever the passes do: the
+            // viewer's present pass shows any of them (src/viewer/present.rs).
+            let mut usage = wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING;
             if t.usage.storage {
                 usage |= wgpu::TextureUsages::STORAGE_BINDING;
             }
