@@ -33,11 +33,14 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let any = trace_any(o, d, 3.0e38);
     let p = trace_primary(o, d, 3.0e38);
     // trace_pair along the ray itself: its hit and its shadow verdict.
-    let pair = trace_pair(o, d, true, d, 3.0e38);
+    let pair = trace_pair(o, d, true, o, d, 3.0e38);
+    // A shadow ray from elsewhere (origin and direction swapped).
+    let apart = trace_pair(o, d, true, d, o, 3.0e38);
     // Wanting no hit and a shadow ray of length 0: neither is traced.
-    let none = trace_pair(o, d, false, d, 0.0);
+    let none = trace_pair(o, d, false, o, d, 0.0);
     let agree = bitcast<u32>(p.t) == bitcast<u32>(h.t) && p.object == h.object
         && bitcast<u32>(pair.hit.t) == bitcast<u32>(h.t) && pair.hit.object == h.object && pair.blocked == any
+        && bitcast<u32>(apart.hit.t) == bitcast<u32>(h.t) && apart.blocked == trace_any(d, o, 3.0e38)
         && !hit_found(none.hit) && !none.blocked;
     textureStore(ray_result, id.xy, vec4f(select(0.0, 1.0, hit_found(h)), select(0.0, 1.0, any), h.t, select(2.0, 1.0, agree)));
 }

@@ -3,6 +3,8 @@
 //! `pathtrace.spp = 600` came out 41% too dark. The engine now splits a
 //! pass's sample count (a params member `X` with a sibling `X_done`) into
 //! dispatches of at most `SAMPLES_PER_DISPATCH` (src/graph/compile/split.rs).
+//! A pass that renders several texels per invocation
+//! (`texels_per_invocation`) renders the same image as one texel each.
 
 mod common;
 
@@ -17,6 +19,10 @@ fn with_spp(spp: i64) -> CompileOptions {
     CompileOptions { edits: GraphEdits { set, ..Default::default() }, ..Default::default() }
 }
 
+/// A split pass as the schedule has it: name, entry, spp, spp_done, texels
+/// per invocation.
+type Dispatch = (String, String, Option<ParamValue>, Option<ParamValue>, u32);
+
 fn graph() -> std::path::PathBuf {
     repo().join("passes/pathtrace.ron")
 }
@@ -26,28 +32,49 @@ fn a_large_sample_count_becomes_several_dispatches() {
     assert_eq!(SAMPLES_PER_DISPATCH, 8);
     let scene = load_scene("cornell.ron");
     let g = compile(&scene, &graph(), &with_spp(20));
-    let split: Vec<(String, String, Option<ParamValue>, Option<ParamValue>)> = g
+    let split: Vec<Dispatch> = g
         .schedule
         .passes
         .iter()
         .filter(|p| p.name.starts_with("pathtrace"))
         .map(|p| {
             let params = p.params.as_ref().expect("params");
-            (p.name.clone(), p.entry.clone(), params.values.get("spp").cloned(), params.values.get("spp_done").cloned())
+            (p.name.clone(), p.entry.clone(), params.values.get("spp").cloned(), params.values.get("spp_done").cloned(), p.texels_per_invocation)
         })
         .collect();
     let int = |n| Some(ParamValue::Int(n));
+    // The shipped pass renders 8 texels per invocation, so its first
+    // dispatch takes 1 sample per texel; the rest take up to 8, one texel
+    // per invocation, shares as equal as can be.
     assert_eq!(
         split,
         vec![
-            ("pathtrace".to_string(), "main".to_string(), int(7), int(0)),
-            ("pathtrace#2".to_string(), "main_more".to_string(), int(7), int(7)),
-            ("pathtrace#3".to_string(), "main_more".to_string(), int(6), int(14)),
+            ("pathtrace".to_string(), "main".to_string(), int(1), int(0), 8),
+            ("pathtrace#2".to_string(), "main_more".to_string(), int(7), int(1), 1),
+            ("pathtrace#3".to_string(), "main_more".to_string(), int(6), int(8), 1),
+            ("pathtrace#4".to_string(), "main_more".to_string(), int(6), int(14), 1),
         ]
     );
+    // One texel per invocation: dispatches of up to 8, as equal as can be.
+    let text = std::fs::read_to_string(graph()).expect("pathtrace.ron");
+    let dir = std::env::temp_dir().join(format!("glint-sample-loops-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let one_texel = dir.join("pathtrace.ron");
+    std::fs::write(&one_texel, text.replace("texels_per_invocation: 8", "texels_per_invocation: 1")).expect("write");
+    let g1 = compile(&scene, &one_texel, &with_spp(20));
+    let spp: Vec<Option<ParamValue>> = g1.schedule.passes.iter().filter(|p| p.name.starts_with("pathtrace")).map(|p| p.params.as_ref().expect("params").values.get("spp").cloned()).collect();
+    assert_eq!(spp, vec![int(7), int(7), int(6)]);
     // Up to 8, one dispatch, as written.
-    let one = compile(&scene, &graph(), &with_spp(8));
+    let one = compile(&scene, &one_texel, &with_spp(8));
     assert_eq!(one.schedule.passes.iter().filter(|p| p.name.starts_with("pathtrace")).count(), 1);
+    // A sampled pass may not take more than 8 texels' samples per invocation.
+    std::fs::write(&one_texel, text.replace("texels_per_invocation: 8", "texels_per_invocation: 9")).expect("write");
+    let e = glint::graph::load_and_compile(&one_texel, &repo().join("shaders"), &scene.features, &with_spp(1)).unwrap_err().to_string();
+    assert!(e.contains("`texels_per_invocation` is 9") && e.contains("at most 8"), "{e}");
+    std::fs::write(&one_texel, text.replace("texels_per_invocation: 8", "texels_per_invocation: 0")).expect("write");
+    let e = glint::graph::load_and_compile(&one_texel, &repo().join("shaders"), &scene.features, &with_spp(1)).unwrap_err().to_string();
+    assert!(e.contains("`texels_per_invocation` is 0; give 1 to 64"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
     // The engine's member is not the user's, and a frame has a ceiling.
     let mut set_done = with_spp(20);
     set_done.edits.set.push(ParamSet { pass: "pathtrace".into(), param: "spp_done".into(), value: ParamValue::Int(3) });
@@ -84,4 +111,38 @@ fn spp_600_is_600_accumulated_frames() {
 
 fn mean(img: &glint::gpu::readback::ImageF32) -> f64 {
     img.data.iter().map(|p| f64::from(p[0] + p[1] + p[2])).sum::<f64>() / img.data.len() as f64
+}
+
+/// The shipped path tracer renders 8 texels per invocation, starting a new
+/// path in a lane as soon as one ends; the image is that of one texel per
+/// invocation, bit for bit (each texel draws its own random numbers), at a
+/// size no dispatch divides evenly, in a flat scene and in a BVH scene,
+/// and so is the G-buffer it writes.
+#[test]
+fn texels_per_invocation_keep_the_image() {
+    let Some(gpu) = gpu() else { return };
+    let size = (67, 35);
+    for scene_name in ["cornell.ron", "moving-lights.ron"] {
+        for output in [None, Some("gbuf_pos"), Some("gbuf_normal")] {
+            let options = CompileOptions { output: output.map(str::to_string), ..Default::default() };
+            let shipped = compile(&load_scene(scene_name), &graph(), &options);
+            let pass = shipped.schedule.passes.iter().find(|p| p.name == "pathtrace").expect("pathtrace pass");
+            assert_eq!(pass.texels_per_invocation, 8);
+            let reference = {
+                let mut g = shipped.clone();
+                for p in &mut g.schedule.passes {
+                    p.texels_per_invocation = 1;
+                }
+                render_compiled(gpu, load_scene(scene_name), &g, size, 2)
+            };
+            for texels in [8, 3] {
+                let mut g = shipped.clone();
+                for p in g.schedule.passes.iter_mut().filter(|p| p.name == "pathtrace") {
+                    p.texels_per_invocation = texels;
+                }
+                let img = render_compiled(gpu, load_scene(scene_name), &g, size, 2);
+                assert!(img.data == reference.data, "{scene_name} {output:?}: {texels} texels per invocation differ from 1");
+            }
+        }
+    }
 }

@@ -94,22 +94,22 @@ struct PairHit {
 }
 
 // The closest hit along ro + t rd (a miss without `want_hit`) and whether
-// anything blocks the shadow ray ro + t sd in (0, shadow_tmax) (0: no
+// anything blocks the shadow ray so + t sd in (0, shadow_tmax) (0: no
 // shadow ray). Flat scenes load
 // each primitive once for both rays, in one loop (the loads are most of a
 // flat ray's cost); elsewhere these are two traversals. The same answers
 // as trace_closest and trace_any, bit for bit.
-fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, sd: vec3f, shadow_tmax: f32) -> PairHit {
+fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
     let tmax = 3.0e38;
     if BRUTE_FORCE || !FLAT_SCENE {
         var hit = no_hit(tmax);
         if want_hit {
             hit = trace_closest(ro, rd, tmax);
         }
-        return PairHit(hit, shadow_tmax > 0.0 && trace_any(ro, sd, shadow_tmax));
+        return PairHit(hit, shadow_tmax > 0.0 && trace_any(so, sd, shadow_tmax));
     }
     let a = make_ray(ro, rd);
-    let b = make_ray(ro, sd);
+    let b = make_ray(so, sd);
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
     var blocked = false;
     // The shadow ray's tests as brute_force's: bound next_up(tmax), then < tmax.

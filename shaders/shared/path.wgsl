@@ -24,121 +24,161 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     return 1.0 / (1.0 + r * r);
 }
 
+// A path in flight: the ray in hand's direction, what it carries, and
+// what the bounce before left for multiple importance sampling.
+struct PathState {
+    rd: vec3f,
+    throughput: vec3f,
+    result: vec3f,
+    // The BSDF pdf of the last bounce if it was diffuse (then a light hit
+    // is weighted against NEE), or a negative value (camera / specular).
+    bsdf_pdf: f32,
+    prev_p: vec3f,
+    depth: u32,
+}
+
+fn new_path(ro: vec3f, rd: vec3f) -> PathState {
+    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0u);
+}
+
+// What a bounce leaves to trace: the next ray from `o` along the state's
+// rd if `go_on`, and the shadow ray of its last light (shadow_tmax 0:
+// none), whose light counts if nothing blocks it. `ended`: the path ended
+// before any ray (a miss, a light).
+struct Bounce {
+    ended: bool,
+    go_on: bool,
+    o: vec3f,
+    shadow_dir: vec3f,
+    shadow_tmax: f32,
+    shadowed_light: vec3f,
+}
+
+// A bounce that traces nothing.
+fn ended_bounce() -> Bounce {
+    return Bounce(true, false, vec3f(0.0), vec3f(0.0, 0.0, 1.0), 0.0, vec3f(0.0));
+}
+
+// One bounce of a path at `hit` (the closest hit of the ray in hand).
+fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> Bounce {
+    var out = ended_bounce();
+    let depth = (*st).depth;
+    let rd = (*st).rd;
+    if depth == 0u {
+        path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
+        let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
+        path_primary_normal = select(vec4f(facing, material_specular(hit.material)), vec4f(0.0), !hit_found(hit));
+    }
+    if !hit_found(hit) {
+        (*st).result += (*st).throughput * frame.background;
+        return out;
+    }
+    let m = load_material(hit.material);
+    let p = hit.position;
+    if is_emissive(m) && (depth > 0u || first_emission || hit.light < 0) {
+        var w = 1.0;
+        if hit.light >= 0 && (*st).bsdf_pdf > 0.0 {
+            w = power_heuristic((*st).bsdf_pdf, light_pdf(load_light(u32(hit.light)), (*st).prev_p));
+        }
+        (*st).result += (*st).throughput * m.emission * w;
+    }
+    if hit.light >= 0 {
+        return out; // lights do not reflect
+    }
+    out.ended = false;
+    let f = facing(hit, rd);
+    let ng = f.ng;
+    let n = f.n;
+    let o = offset_ray(p, ng);
+    out.o = o;
+    out.shadow_dir = n;
+    var go_on = true;
+    // Drawn whether or not the scene has specular surfaces, so a
+    // specialised shader draws the same random numbers as a generic one.
+    let u_lobe = rand_f32(rng);
+    if SCENE_SPECULAR && u_lobe < m.specular {
+        var dir = reflect(rd, n);
+        if m.roughness > 0.0 {
+            dir = sample_glossy(dir, n, m.roughness, rand2(rng));
+        }
+        // (Written as the negated stop test: a NaN goes on, as it did.)
+        go_on = !(dot(dir, ng) <= 0.0);
+        if go_on {
+            (*st).throughput *= m.albedo;
+            (*st).bsdf_pdf = -1.0;
+            (*st).rd = dir;
+        }
+    } else {
+        // Next-event estimation: every light, one sample each.
+        for (var i = 0u; i < light_count(); i++) {
+            let l = load_light(i);
+            let s = sample_light(l, o, rand2(rng));
+            let cos_n = dot(n, s.dir);
+            if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 {
+                continue;
+            }
+            var w = 1.0;
+            if s.pdf > 0.0 {
+                w = power_heuristic(s.pdf, cos_n / PI);
+            }
+            let light = (*st).throughput * m.albedo / PI * s.weight * cos_n * w;
+            if i + 1u == light_count() {
+                out.shadow_dir = s.dir;
+                out.shadow_tmax = shadow_ray_length(s);
+                out.shadowed_light = light;
+            } else if light_visible(o, s) {
+                (*st).result += light;
+            }
+        }
+        let dir = sample_cosine(n, rand2(rng));
+        let cos_d = dot(n, dir);
+        go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0);
+        if go_on {
+            (*st).throughput *= m.albedo;
+            (*st).bsdf_pdf = cos_d / PI;
+            (*st).rd = dir;
+        }
+    }
+    if go_on {
+        (*st).prev_p = o;
+        if depth + 1u >= rr_depth {
+            let q = min(max3((*st).throughput), 0.95);
+            go_on = !(rand_f32(rng) >= q);
+            if go_on {
+                (*st).throughput /= q;
+            }
+        }
+    }
+    out.go_on = go_on;
+    return out;
+}
+
 // The radiance arriving at `ro_in` from direction -`rd_in`: at most
 // `max_depth` bounces, Russian roulette from bounce `rr_depth`. Without
 // `first_emission`, a light hit first counts nothing (what the hybrid's
 // light passes shade is left out: indirect light at a probe; emissive
 // surfaces still count, as no light pass samples them).
 fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> vec3f {
-    var rd = rd_in;
-    var throughput = vec3f(1.0);
-    var result = vec3f(0.0);
-    // The BSDF pdf of the last bounce if it was diffuse (then a light hit
-    // is weighted against NEE), or a negative value (camera / specular).
-    var bsdf_pdf = -1.0;
-    var prev_p = ro_in;
+    var st = new_path(ro_in, rd_in);
     // The hit of the ray in hand: the camera ray's traced here, each
     // bounce's at the end of the bounce before, with that bounce's last
     // shadow ray (trace_pair: one loop over a flat scene for both).
-    var hit = trace_closest(ro_in, rd, 3.0e38);
+    var hit = trace_closest(ro_in, rd_in, 3.0e38);
     for (var depth = 0u; depth < max_depth; depth++) {
-        if depth == 0u {
-            path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
-            let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-            path_primary_normal = select(vec4f(facing, material_specular(hit.material)), vec4f(0.0), !hit_found(hit));
-        }
-        if !hit_found(hit) {
-            result += throughput * frame.background;
+        st.depth = depth;
+        let b = path_bounce(&st, hit, rr_depth, first_emission, rng);
+        if b.ended {
             break;
         }
-        let m = load_material(hit.material);
-        let p = hit.position;
-        if is_emissive(m) && (depth > 0u || first_emission || hit.light < 0) {
-            var w = 1.0;
-            if hit.light >= 0 && bsdf_pdf > 0.0 {
-                w = power_heuristic(bsdf_pdf, light_pdf(load_light(u32(hit.light)), prev_p));
-            }
-            result += throughput * m.emission * w;
-        }
-        if hit.light >= 0 {
-            break; // lights do not reflect
-        }
-        let f = facing(hit, rd);
-        let ng = f.ng;
-        let n = f.n;
-        let o = offset_ray(p, ng);
-        // The last light's shadow ray, traced with the next bounce's ray;
-        // its light counts if nothing blocks it (added last, as the loop
-        // would have).
-        var shadow_dir = n;
-        var shadow_tmax = 0.0;
-        var shadowed_light = vec3f(0.0);
-        var go_on = true;
-        // Drawn whether or not the scene has specular surfaces, so a
-        // specialised shader draws the same random numbers as a generic one.
-        let u_lobe = rand_f32(rng);
-        if SCENE_SPECULAR && u_lobe < m.specular {
-            var dir = reflect(rd, n);
-            if m.roughness > 0.0 {
-                dir = sample_glossy(dir, n, m.roughness, rand2(rng));
-            }
-            // (Written as the negated stop test: a NaN goes on, as it did.)
-            go_on = !(dot(dir, ng) <= 0.0);
-            if go_on {
-                throughput *= m.albedo;
-                bsdf_pdf = -1.0;
-                rd = dir;
-            }
-        } else {
-            // Next-event estimation: every light, one sample each.
-            for (var i = 0u; i < light_count(); i++) {
-                let l = load_light(i);
-                let s = sample_light(l, o, rand2(rng));
-                let cos_n = dot(n, s.dir);
-                if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 {
-                    continue;
-                }
-                var w = 1.0;
-                if s.pdf > 0.0 {
-                    w = power_heuristic(s.pdf, cos_n / PI);
-                }
-                let light = throughput * m.albedo / PI * s.weight * cos_n * w;
-                if i + 1u == light_count() {
-                    shadow_dir = s.dir;
-                    shadow_tmax = shadow_ray_length(s);
-                    shadowed_light = light;
-                } else if light_visible(o, s) {
-                    result += light;
-                }
-            }
-            let dir = sample_cosine(n, rand2(rng));
-            let cos_d = dot(n, dir);
-            go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0);
-            if go_on {
-                throughput *= m.albedo;
-                bsdf_pdf = cos_d / PI;
-                rd = dir;
-            }
-        }
-        if go_on {
-            prev_p = o;
-            if depth + 1u >= rr_depth {
-                let q = min(max3(throughput), 0.95);
-                go_on = !(rand_f32(rng) >= q);
-                if go_on {
-                    throughput /= q;
-                }
-            }
-        }
         // A path that ends here (or at max_depth) needs no next hit.
-        let next = trace_pair(o, rd, go_on && depth + 1u < max_depth, shadow_dir, shadow_tmax);
+        let next = trace_pair(b.o, st.rd, b.go_on && depth + 1u < max_depth, b.o, b.shadow_dir, b.shadow_tmax);
         if !next.blocked {
-            result += shadowed_light;
+            st.result += b.shadowed_light;
         }
-        if !go_on {
+        if !b.go_on {
             break;
         }
         hit = next.hit;
     }
-    return finite_or_zero(result);
+    return finite_or_zero(st.result);
 }

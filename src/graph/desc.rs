@@ -203,6 +203,14 @@ pub struct PassDesc {
     /// written.
     #[serde(default)]
     pub dispatch: Option<SizeDesc>,
+    /// Texels each invocation renders in turn (1 to MAX_TEXELS_PER_INVOCATION;
+    /// 1 when omitted): the dispatch is the size above with its width
+    /// divided by this, rounded up, and the shader covers the rest
+    /// (`shaders/pathtrace.wgsl`: a lane starts its next path when one
+    /// ends). A split sample loop (`src/graph/compile/split.rs`) gives such
+    /// a pass's first dispatch fewer samples per texel.
+    #[serde(default)]
+    pub texels_per_invocation: Option<u32>,
     /// A second entry point of the shader, run once per texel the pass's
     /// entry pushed to its `work_list` (shared/work_list.wgsl), by an
     /// indirect dispatch right after it: the expensive work of a pass that
@@ -212,6 +220,9 @@ pub struct PassDesc {
     #[serde(default)]
     pub listed: Option<String>,
 }
+
+/// The most texels one invocation may render (`PassDesc::texels_per_invocation`).
+pub const MAX_TEXELS_PER_INVOCATION: u32 = 64;
 
 /// A map key written bare (`{ samples: 1 }`, as the shipped graphs write them) or quoted
 /// (`{ "src": "lit" }`). Untagged enums go through serde's buffered content,

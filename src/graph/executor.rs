@@ -284,6 +284,7 @@ impl Executor {
             };
             let bind_groups = [make_groups(0)?, make_groups(1)?];
             let (w, h) = sp.dispatch.resolve(size);
+            let w = w.div_ceil(sp.texels_per_invocation.max(1));
             let wg = sp.workgroup_size;
             passes.push(PassGpu {
                 pipeline: Arc::clone(pipeline),

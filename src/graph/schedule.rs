@@ -157,6 +157,8 @@ pub struct ScheduledPass {
     /// One invocation per texel of this size (the graph's `dispatch`, else
     /// the first texture written).
     pub dispatch: SizeDesc,
+    /// Texels per invocation (the dispatch's width divided by it).
+    pub texels_per_invocation: u32,
     /// When it runs.
     pub run: RunMode,
     /// Schedule indices of the earlier passes whose writes it reads this

@@ -105,6 +105,7 @@ pub(super) fn emit_schedule(
             constants: plan.constants.clone(),
             bindings,
             dispatch: plan.desc.dispatch.or(dispatch).unwrap_or_default(),
+            texels_per_invocation: plan.desc.texels_per_invocation.unwrap_or(1),
             run: plan.desc.run,
             inputs_from,
             reads,

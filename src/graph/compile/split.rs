@@ -14,6 +14,11 @@
 //! point `ENTRY_more` with the next share and the count done so far, and
 //! blends into the output in place: its read_write binding `Y_acc` is bound
 //! to whatever the first pass binds `Y` to. `X_done` is the engine's to set.
+//!
+//! A pass with `texels_per_invocation` n > 1 takes n texels' samples in one
+//! invocation, so its first dispatch takes at most SAMPLES_PER_DISPATCH / n
+//! samples per texel (n at most SAMPLES_PER_DISPATCH); the later ones run
+//! `ENTRY_more` one texel per invocation, at most SAMPLES_PER_DISPATCH each.
 
 use std::collections::BTreeMap;
 
@@ -54,7 +59,21 @@ pub(super) fn split_sample_loops(desc: &FrameGraph, shaders: &BTreeMap<String, S
                 continue;
             }
         };
-        let chunks = total.div_ceil(u64::from(SAMPLES_PER_DISPATCH));
+        let texels = u64::from(pass.texels_per_invocation.unwrap_or(1).max(1));
+        if texels > u64::from(SAMPLES_PER_DISPATCH) {
+            return Err(err(
+                ErrorKind::BadSize,
+                Some(&pass.name),
+                format!("`texels_per_invocation` is {texels}, but a pass with a sample loop (`{param}`) takes at most {SAMPLES_PER_DISPATCH}: one invocation would loop over more samples than drivers allow"),
+            ));
+        }
+        let shares = if texels == 1 {
+            equal_shares(total)
+        } else {
+            let first = total.min(u64::from(SAMPLES_PER_DISPATCH) / texels);
+            std::iter::once(first).chain(equal_shares(total - first)).collect()
+        };
+        let chunks = shares.len() as u64;
         if chunks > MAX_DISPATCHES {
             return Err(err(
                 ErrorKind::BadParam,
@@ -66,9 +85,7 @@ pub(super) fn split_sample_loops(desc: &FrameGraph, shaders: &BTreeMap<String, S
             ));
         }
         let mut so_far = 0u64;
-        for k in 0..chunks {
-            // Shares as equal as can be: the first (total % chunks) get one more.
-            let share = total / chunks + u64::from(k < total % chunks);
+        for (k, &share) in shares.iter().enumerate() {
             let mut p = pass.clone();
             p.params.insert(param.clone(), ParamValue::Int(share as i64));
             p.params.insert(done.clone(), ParamValue::Int(so_far as i64));
@@ -90,12 +107,20 @@ pub(super) fn split_sample_loops(desc: &FrameGraph, shaders: &BTreeMap<String, S
                     }
                 }
                 p.entry = Some(entry);
+                p.texels_per_invocation = None;
             }
             so_far += share;
             out.passes.push(p);
         }
     }
     Ok(changed.then_some(out))
+}
+
+/// `total` samples in dispatches of at most SAMPLES_PER_DISPATCH, shares as
+/// equal as can be (the first total % chunks take one more); none for 0.
+fn equal_shares(total: u64) -> Vec<u64> {
+    let chunks = total.div_ceil(u64::from(SAMPLES_PER_DISPATCH));
+    (0..chunks).map(|k| total / chunks + u64::from(k < total % chunks)).collect()
 }
 
 /// The name `X` of a pass's splittable sample count: its shader's params

@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{err, err_at, names, Bound, CompileError, ErrorKind, PassPlan};
-use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, RunMode, TextureDesc};
+use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, RunMode, TextureDesc, MAX_TEXELS_PER_INVOCATION};
 use crate::graph::params::{ParamError, PassParams};
 use crate::graph::schedule::{EngineKind, EngineResource, WORK_LIST, WORK_LIST_GROUP};
 use crate::format::TexFormat;
@@ -56,6 +56,7 @@ pub(super) fn validate<'a>(
             bindings.push((b, bind_one(desc, name, b, target)?));
         }
         check_work_list(pass, entry, &bindings)?;
+        check_texels_per_invocation(pass)?;
         check_pass_writes(name, &bindings)?;
         check_run(desc, pass, &bindings)?;
         // An entry point that does not use `params` (another entry of the
@@ -127,6 +128,21 @@ fn pick_listed<'a>(pass: &PassDesc, shader: &'a ShaderInfo) -> Result<Option<&'a
 
 /// A work list needs both halves: the pass's entry fills it, a `listed`
 /// entry runs over it.
+/// `texels_per_invocation` within 1..=MAX_TEXELS_PER_INVOCATION, and not on
+/// a pass with a work list (whose list holds one entry per invocation).
+fn check_texels_per_invocation(pass: &PassDesc) -> Result<(), CompileError> {
+    let Some(n) = pass.texels_per_invocation else {
+        return Ok(());
+    };
+    if !(1..=MAX_TEXELS_PER_INVOCATION).contains(&n) {
+        return Err(err(ErrorKind::BadSize, Some(&pass.name), format!("`texels_per_invocation` is {n}; give 1 to {MAX_TEXELS_PER_INVOCATION}")));
+    }
+    if n > 1 && pass.listed.is_some() {
+        return Err(err(ErrorKind::BadSize, Some(&pass.name), "`texels_per_invocation` above 1 and `listed` do not go together: a work list has one entry per texel"));
+    }
+    Ok(())
+}
+
 fn check_work_list(pass: &PassDesc, entry: &EntryInfo, bindings: &[(&BindingInfo, Bound)]) -> Result<(), CompileError> {
     let declared = bindings.iter().any(|(_, b)| *b == Bound::WorkList);
     let filled = entry.bindings.iter().any(|b| b.name == WORK_LIST);
