@@ -68,17 +68,15 @@ pub fn hit_triangle(r: &Ray, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<
     let by = b[ky] - r.s.y * b[kz];
     let cx = c[kx] - r.s.x * c[kz];
     let cy = c[ky] - r.s.y * c[kz];
-    let mut u = cx * by - cy * bx;
-    let mut v = ax * cy - ay * cx;
-    let mut w = bx * ay - by * ax;
-    if u == 0.0 || v == 0.0 || w == 0.0 {
-        // An edge function rounded to zero: recompute all three as exact
-        // differences of products (Kahan's fma trick) before trusting the
-        // signs (Woop et al. fall back to double precision here).
-        u = diff_of_products(cx, by, cy, bx);
-        v = diff_of_products(ax, cy, ay, cx);
-        w = diff_of_products(bx, ay, by, ax);
-    }
+    // Each edge function as a difference of products with one rounding
+    // (Kahan's fma trick): its sign is exact, so a ray through a shared
+    // edge hits one of the two triangles, never neither (Woop et al. fall
+    // back to double precision when an edge rounds to zero; on the GPU the
+    // fma costs less than the plain products plus a fallback, which a SIMD
+    // CPU driver runs for every triangle whether any lane needs it or not).
+    let u = diff_of_products(cx, by, cy, bx);
+    let v = diff_of_products(ax, cy, ay, cx);
+    let w = diff_of_products(bx, ay, by, ax);
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return None;
     }
@@ -90,8 +88,10 @@ pub fn hit_triangle(r: &Ray, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<
     let bz = r.s.z * b[kz];
     let cz = r.s.z * c[kz];
     let t = u * az + v * bz + w * cz;
-    let outside = if det < 0.0 { t >= 0.0 || t < tmax * det } else { t <= 0.0 || t > tmax * det };
-    if outside {
+    // t and det with det's sign taken off both (exact), as the shader does.
+    let sign = det.to_bits() & 0x8000_0000;
+    let ts = f32::from_bits(t.to_bits() ^ sign);
+    if ts <= 0.0 || ts > tmax * det.abs() {
         return None;
     }
     let inv = 1.0 / det;
