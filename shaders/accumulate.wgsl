@@ -128,7 +128,9 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> Histor
     let nx = select(1u, 2u, f.x > 0.0);
     let taps = nx * select(1u, 2u, f.y > 0.0) * u32(frame.exact_one);
     for (var k = 0u; k < taps; k++) {
-        let d = vec2i(i32(k % nx), i32(k / nx));
+        // k % nx and k / nx for nx in {1, 2}, without an integer division
+        // (a SIMD CPU driver divides one lane at a time).
+        let d = vec2i(i32(k & (nx - 1u)), i32(k >> (nx - 1u)));
         let q = i0 + d;
         let w = select(1.0 - f.x, f.x, d.x == 1) * select(1.0 - f.y, f.y, d.y == 1);
         if w <= 0.0 || any(q < vec2i(0)) || any(q >= size) {

@@ -50,7 +50,12 @@ fn render(id: vec3u, groups: vec3u) {
     let spp = max(params.spp, 1u);
     let max_depth = params.max_depth;
     var pixel = vec2u(p % frame.size.x, p / frame.size.x);
-    var rng = rng_for(pixel, frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
+    // The step from one texel of this lane to its next, as a 2D offset:
+    // a SIMD CPU driver divides integers one lane at a time, so the next
+    // pixel is stepped to, not divided out, on every trip.
+    let step = vec2u(lanes % frame.size.x, lanes / frame.size.x);
+    let rng_key = rng_frame_key(frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
+    var rng = rng_at(rng_key, pixel);
     var s = 0u;
     var sum = vec3f(0.0);
     var st = new_path(frame.camera.origin, camera_dir(frame.camera, pixel, rand2(&rng)));
@@ -66,13 +71,16 @@ fn render(id: vec3u, groups: vec3u) {
         let pixel_done = path_done && s + 1u >= spp;
         let next_p = p + lanes;
         let lane_done = pixel_done && next_p >= n;
-        let next_pixel = vec2u(next_p % frame.size.x, next_p / frame.size.x);
+        var next_pixel = pixel + step;
+        if next_pixel.x >= frame.size.x {
+            next_pixel = vec2u(next_pixel.x - frame.size.x, next_pixel.y + 1u);
+        }
         // The ray to trace: the path's next, or the next path's camera ray.
         var ro = b.o;
         var rd = st.rd;
         if path_done && !lane_done {
             if pixel_done {
-                rng = rng_for(next_pixel, frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
+                rng = rng_at(rng_key, next_pixel);
             }
             ro = frame.camera.origin;
             rd = camera_dir(frame.camera, select(pixel, next_pixel, pixel_done), rand2(&rng));

@@ -13,12 +13,19 @@ struct Rng {
 
 // A stream for one pixel of one frame of one pass (`salt` names the pass).
 fn rng_for(pixel: vec2u, frame_index: u32, salt: u32, seed: u32) -> Rng {
+    return rng_at(rng_frame_key(frame_index, salt, seed), pixel);
+}
+
+// rng_for in two steps, for a shader that starts many pixels' streams: the
+// hash of (seed, salt, frame) is the same for all of them.
+fn rng_frame_key(frame_index: u32, salt: u32, seed: u32) -> u32 {
     var h = pcg_hash(seed ^ 0x9e3779b9u);
     h = pcg_hash(h ^ salt);
-    h = pcg_hash(h ^ frame_index);
-    h = pcg_hash(h ^ pixel.y);
-    h = pcg_hash(h ^ pixel.x);
-    return Rng(h);
+    return pcg_hash(h ^ frame_index);
+}
+
+fn rng_at(key: u32, pixel: vec2u) -> Rng {
+    return Rng(pcg_hash(pcg_hash(key ^ pixel.y) ^ pixel.x));
 }
 
 fn rand_u32(rng: ptr<function, Rng>) -> u32 {
