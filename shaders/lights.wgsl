@@ -5,10 +5,18 @@
 //   POINT_LIGHTS: whether point lights are shaded here.
 // Falloff 0 is physical (inverse square); 1 is the thesis's exponential,
 // exp(-falloff_k d) in place of 1/d^2.
+#import flat
 #import lights
 
 override SPHERE_MODE: u32 = 2u;
 override POINT_LIGHTS: bool = true;
+
+// Whether the scene's one light is shaded as a point (a point light, or a
+// sphere light in point mode): known when the pipeline is built.
+fn single_point() -> bool {
+    let one = SCENE_ONE_LIGHT && (SCENE_POINT_LIGHTS != SCENE_AREA_LIGHTS);
+    return one && ((SCENE_POINT_LIGHTS && POINT_LIGHTS) || (SCENE_AREA_LIGHTS && SPHERE_MODE == 1u));
+}
 
 struct Params {
     samples: u32, // ui: 1..64 limit "samples per light"
@@ -41,7 +49,21 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
-    for (var i = 0u; i < light_count(); i++) {
+    if single_point() {
+        // One light, shaded as a point: one shadow ray, at the top level
+        // of the shader (trace_any_primary's written-out sweep pays there).
+        var l = load_light(0u);
+        if SPHERE_MODE == 1u && l.kind == LIGHT_SPHERE {
+            l.color = l.color * PI * l.radius * l.radius;
+        }
+        l.kind = LIGHT_POINT;
+        let s = sample_light(l, o, rand2(&rng));
+        let cos_n = dot(n, s.dir);
+        let blocked = trace_any_primary(o, s.dir, shadow_ray_length(s));
+        let lit = s.valid && cos_n > 0.0 && !blocked;
+        irradiance = select(vec3f(0.0), s.weight * cos_n * falloff_scale(params.falloff, params.falloff_k, length(l.position - p)), lit);
+    }
+    for (var i = 0u; i < select(light_count(), 0u, single_point()); i++) {
         var l = load_light(i);
         if l.kind == LIGHT_POINT && !POINT_LIGHTS {
             continue;

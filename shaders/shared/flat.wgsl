@@ -86,6 +86,17 @@ fn trace_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     return closest_hit(Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv), ro, rd, tmax);
 }
 
+// trace_any for a shader's one shadow ray outside any loop or branch: the
+// written-out sweep on flat scenes (which then test every primitive, as
+// trace_any does there). The same verdicts.
+fn trace_any_primary(ro: vec3f, rd: vec3f, tmax: f32) -> bool {
+    if BRUTE_FORCE || !FLAT_SCENE {
+        return trace_any(ro, rd, tmax);
+    }
+    let r = make_ray(ro, rd);
+    return flat_sweep(r, tmax).prim != NO_HIT && traceable(r);
+}
+
 // A ray's closest hit and a shadow ray's verdict, traced together.
 struct PairHit {
     hit: Hit,
