@@ -28,7 +28,10 @@ fn primary(@builtin(global_invocation_id) id: vec3u) {
     // One store per texture, hit or miss: CPU drivers run both sides of a
     // branch under a lane mask, so a store on each side costs two.
     textureStore(bench_hit, id.xy, select(vec4f(0.0, 0.0, 0.0, -1.0), vec4f(hit.position, hit.t), found));
-    textureStore(bench_normal, id.xy, select(vec4f(0.0), vec4f(n, 0.0), found));
+    // w: the BLAS trips of the ray (COUNT_TRIPS, `--trips`): node trips +
+    // 4096 x triangle trips, each capped at 4095 (exact in an f32).
+    let trips = f32(min(trips_node, 4095u) + 4096u * min(trips_triangle, 4095u));
+    textureStore(bench_normal, id.xy, vec4f(select(vec3f(0.0), n, found), trips));
 }
 
 // Shadow: out.x = primary distance (inf on a miss), out.y = 1 if occluded.

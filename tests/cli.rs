@@ -279,3 +279,28 @@ fn bench_thesis_writes_its_report() {
     assert!(md.contains("longer than 0.001 ms a frame at every count"), "{md}");
     assert!(md.contains("| 1 | 220 |"), "the stress test's second step: {md}");
 }
+
+/// `bench rays --trips` counts each primary ray's BLAS trips on the GPU:
+/// a ray that misses the mesh tests the root's two children and stops (one
+/// trip), a view of the mesh also tests triangles, and without the flag
+/// nothing is counted.
+#[test]
+fn bench_rays_counts_traversal_trips() {
+    let trips = |camera: &str, flag: bool| {
+        let mut args = vec!["bench", "rays", "--obj", "scenes/meshes/knot.obj", "--size", "32x16", "--camera", camera, "--runs", "1"];
+        if flag {
+            args.push("--trips");
+        }
+        let (code, out, err) = glint(&args);
+        assert_eq!(code, 0, "{err}");
+        let value = |key: &str| out.lines().find_map(|l| l.strip_prefix(&format!("{key}="))).map(|v| v.parse::<f64>().unwrap_or(f64::NAN));
+        (value("trips_node_per_ray"), value("trips_triangle_per_ray"), value("trips_per_ray"), value("trips_group_max_per_ray"))
+    };
+    // Looking away: every ray misses both of the root's children.
+    assert_eq!(trips("0,0,5,0,0,10,45", true), (Some(1.0), Some(0.0), Some(1.0), Some(1.0)));
+    let (node, tri, all, group) = trips("0,0,5,0,0,0,45", true);
+    let (node, tri, all, group) = (node.unwrap(), tri.unwrap(), all.unwrap(), group.unwrap());
+    assert!(node > 1.0 && tri > 0.0, "node {node}, triangle {tri}");
+    assert!((node + tri - all).abs() < 2e-3 && group >= all, "per ray {all}, busiest lane {group}");
+    assert_eq!(trips("0,0,5,0,0,0,45", false), (None, None, None, None));
+}

@@ -299,6 +299,14 @@ override FLAT_SCENE: bool = false;
 // third of its primary rays when most of them miss.
 override ONE_MESH: bool = false;
 
+// `glint bench rays --trips` sets this: traverse_blas counts its trips
+// (one box pair or one triangle each) into the two counters below, which
+// the bench's primary rays hand back. Trip counts do not swing with the
+// machine as times do. Off, the counting is compiled out.
+override COUNT_TRIPS: bool = false;
+var<private> trips_node: u32;
+var<private> trips_triangle: u32;
+
 // Why the loops below look the way they do: SIMD CPU drivers (lavapipe)
 // run every branch of a loop body under a lane mask, taken or not, so an
 // iteration costs the sum of all its paths. The TLAS loop (few steps)
@@ -337,6 +345,10 @@ fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function
             have_current = false;
         }
         let test_triangle = tri < tri_end;
+        if COUNT_TRIPS {
+            trips_node += u32(!test_triangle && have_current);
+            trips_triangle += u32(test_triangle);
+        }
         let base = select(node_base + 2u * first, 3u * tri, test_triangle);
         let t0 = bitcast<vec4f>(scene_texel(scene_geometry, base));
         let t1 = bitcast<vec4f>(scene_texel(scene_geometry, base + 1u));

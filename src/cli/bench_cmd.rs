@@ -67,6 +67,11 @@ pub struct RaysArgs {
     /// (or a greyscale `Pf` PFM when the name ends in .pfm).
     #[arg(long)]
     pub hitdist: Option<PathBuf>,
+    /// Count each primary ray's BLAS traversal trips on the GPU (box pairs
+    /// and triangles; see src/cli/trips.rs) and print their means. The
+    /// counting costs time: compare times from runs without it.
+    #[arg(long)]
+    pub trips: bool,
 }
 
 fn parse_camera(s: &str) -> Result<[f64; 7], String> {
@@ -113,7 +118,15 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     check_size(&gpu, args.size)?;
     let graph_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/bench-rays.ron");
     let graph_path = if Path::new("passes/bench-rays.ron").is_file() { PathBuf::from("passes/bench-rays.ron") } else { graph_path };
-    let mut session = Session::new(&gpu, scene, &graph_path, SessionOptions::new(args.size))?;
+    let shader_dir = graph::shader_dir_for(&graph_path);
+    let options = CompileOptions { keep: vec!["bench_normal".into()], ..CompileOptions::default() };
+    let mut compiled = graph::load_and_compile(&graph_path, &shader_dir, &scene.features, &options)?;
+    if args.trips {
+        for pass in compiled.schedule.passes.iter_mut().filter(|p| p.name == "primary") {
+            pass.constants.push(("COUNT_TRIPS".into(), 1.0));
+        }
+    }
+    let mut session = Session::with_graph(&gpu, scene, compiled, shader_dir, SessionOptions::new(args.size))?;
     let build = session.scene.bvh_stats;
     out!("adapter={}", gpu.describe());
     out!("triangles={triangles}");
@@ -181,6 +194,21 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
         write_hitdist(&out, path)?;
         out!("hitdist={}", path.display());
     }
+    if args.trips {
+        print_trips(&session, args.size.0)?;
+    }
+    Ok(())
+}
+
+/// The primary rays' trip counts (bench_normal.w, see `--trips`).
+fn print_trips(session: &Session, width: u32) -> Result<(), UserError> {
+    let normals = session.read_resource("bench_normal").ok_or_else(|| UserError::new("bench-rays.ron wrote no `bench_normal` to count trips in"))??;
+    let codes: Vec<f32> = normals.data.iter().map(|p| p[3]).collect();
+    let s = super::trips::trip_stats(&codes, width as usize);
+    out!("trips_node_per_ray={:.3}", s.node_per_ray);
+    out!("trips_triangle_per_ray={:.3}", s.triangle_per_ray);
+    out!("trips_per_ray={:.3}", s.per_ray);
+    out!("trips_group_max_per_ray={:.3}", s.group_max_per_ray);
     Ok(())
 }
 

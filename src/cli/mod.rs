@@ -26,6 +26,7 @@ mod render_cmd;
 mod thesis_cmd;
 mod trade_cmd;
 mod trade_run;
+mod trips;
 mod view_cmd;
 mod watch_cmd;
 
