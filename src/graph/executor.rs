@@ -116,6 +116,10 @@ pub struct Executor {
     run_records: Option<wgpu::Buffer>,
     /// Textures taken over from the executor this one replaced.
     pub textures_kept: usize,
+    /// Whether this frame's camera is bit for bit last frame's: passes
+    /// whose shader declares CAMERA_STILL then run its still pipeline. The
+    /// session sets it before each frame.
+    pub camera_still: bool,
 }
 
 /// What the executor binds for an engine resource.
@@ -309,7 +313,7 @@ impl Executor {
         // layout is the same, so kept history textures stay in step.
         let parity = previous.filter(|p| p.schedule.flips_parity == schedule.flips_parity).map_or(0, |p| p.parity);
         let runs = vec![RunState::default(); passes.len()];
-        Ok(Executor { schedule: schedule.clone(), size, textures, passes, timer, parity, frame: 0, runs, run_records, textures_kept })
+        Ok(Executor { schedule: schedule.clone(), size, textures, passes, timer, parity, frame: 0, runs, run_records, textures_kept, camera_still: false })
     }
 
     /// Writes pass `pass`'s packed params (after `PassParams::set`).
@@ -327,9 +331,10 @@ impl Executor {
             enc.copy_buffer_to_buffer(records, record * RUN_BYTES, run, 0, RUN_BYTES);
         }
         let bind_groups = &p.bind_groups[usize::from(self.parity)];
-        let (Some(listed), Some(list)) = (&p.pipeline.listed, &p.work_list) else {
+        let (entry, listed) = p.pipeline.for_frame(self.camera_still);
+        let (Some(listed), Some(list)) = (listed, &p.work_list) else {
             let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes });
-            cp.set_pipeline(&p.pipeline.pipeline);
+            cp.set_pipeline(entry);
             for (g, bg) in bind_groups {
                 cp.set_bind_group(*g, bg, &[]);
             }
@@ -346,7 +351,7 @@ impl Executor {
                 end_of_pass_write_index: None,
             });
             let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes: first });
-            cp.set_pipeline(&p.pipeline.pipeline);
+            cp.set_pipeline(entry);
             for (g, bg) in bind_groups {
                 cp.set_bind_group(*g, bg, &[]);
             }

@@ -31,12 +31,31 @@ pub struct PipelineKey {
     constants: Vec<(String, u64)>,
 }
 
+/// The override a shader declares to be told, per frame, that the camera
+/// is bit for bit where it was last frame (shaders/accumulate.wgsl): its
+/// pipelines are built twice, and the executor picks the one that fits
+/// the frame (`Executor::camera_still`).
+pub const CAMERA_STILL: &str = "CAMERA_STILL";
+
 /// A pipeline and the bind group layouts it was made with.
 pub struct CachedPipeline {
     pub pipeline: wgpu::ComputePipeline,
     /// The pass's `listed` entry, with the same layout.
     pub listed: Option<wgpu::ComputePipeline>,
+    /// Both again with CAMERA_STILL set, where the shader declares it.
+    pub still: Option<(wgpu::ComputePipeline, Option<wgpu::ComputePipeline>)>,
     pub layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
+}
+
+impl CachedPipeline {
+    /// The entry and listed-entry pipelines for a frame whose camera is
+    /// (`camera_still`) or is not where it was last frame.
+    pub fn for_frame(&self, camera_still: bool) -> (&wgpu::ComputePipeline, Option<&wgpu::ComputePipeline>) {
+        match &self.still {
+            Some((entry, listed)) if camera_still => (entry, listed.as_ref()),
+            _ => (&self.pipeline, self.listed.as_ref()),
+        }
+    }
 }
 
 /// Pipelines by key. Cloning is cheap (shared handles).
@@ -193,21 +212,26 @@ fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants:
         immediate_size: 0,
     });
     let constants: Vec<(&str, f64)> = constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-    let make = |entry: &str| {
+    let make = |entry: &str, constants: &[(&str, f64)]| {
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(&sp.name),
             layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
             cache: None,
         })
     };
-    let pipeline = make(&sp.entry);
-    let listed = sp.listed.as_deref().map(make);
+    let pipeline = make(&sp.entry, &constants);
+    let listed = sp.listed.as_deref().map(|e| make(e, &constants));
+    let still = shader.info.overrides.iter().any(|o| o.name == CAMERA_STILL).then(|| {
+        let mut c: Vec<(&str, f64)> = constants.iter().copied().filter(|(k, _)| *k != CAMERA_STILL).collect();
+        c.push((CAMERA_STILL, 1.0));
+        (make(&sp.entry, &c), sp.listed.as_deref().map(|e| make(e, &c)))
+    });
     if let Some(e) = pollster::block_on(scope.pop()) {
         let at = shader.source.files.first().map(|f| f.display().to_string()).unwrap_or_else(|| sp.shader.clone());
         return Err(UserError::new(format!("pass `{}` ({at}): the GPU driver rejected the pipeline: {e}", sp.name)));
     }
-    Ok(CachedPipeline { pipeline, listed, layouts })
+    Ok(CachedPipeline { pipeline, listed, still, layouts })
 }

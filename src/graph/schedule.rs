@@ -235,6 +235,9 @@ pub struct Schedule {
     /// Override constants from what the scene lacks, given to every shader
     /// that declares them (empty with `--no-specialise`).
     pub specialisations: Vec<crate::scene::specialise::Specialisation>,
+    /// False with `--no-specialise`: then neither the scene's constants nor
+    /// the per-frame CAMERA_STILL pipelines are used.
+    pub specialise: bool,
 }
 
 /// Memory figures for a schedule at a given render size.

@@ -231,6 +231,10 @@ impl Session {
             _pad2: 0,
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        // A camera bit for bit where it was picks the passes' CAMERA_STILL
+        // pipelines (as a specialisation: not with --no-specialise).
+        let still = bytemuck::bytes_of(&frame.camera) == bytemuck::bytes_of(&frame.prev_camera);
+        self.executor.camera_still = still && self.executor.schedule.specialise;
         let timings = self.executor.run_frame(&self.gpu, self.timing, epoch);
         st.last = Some((world_camera, epoch));
         st.frame_index = st.frame_index.wrapping_add(1);

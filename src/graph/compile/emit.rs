@@ -147,6 +147,7 @@ pub(super) fn emit_schedule(
         kept: Vec::new(),
         probes: desc.probes,
         specialisations: Vec::new(),
+        specialise: false,
     }
 }
 

@@ -208,7 +208,8 @@ pub fn compile(
     let (textures, group_refs) = assign_textures(desc, &versions, &groups, &lifetimes);
     let mut schedule = emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output);
     schedule.kept = kept.iter().map(|r| r.to_string()).collect();
-    if !options.no_specialise {
+    schedule.specialise = !options.no_specialise;
+    if schedule.specialise {
         schedule.specialisations = crate::scene::specialise::specialisations(features);
     }
     Ok(schedule)
