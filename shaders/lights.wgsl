@@ -53,15 +53,14 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         // One light, shaded as a point: one shadow ray, at the top level
         // of the shader (trace_any_primary's written-out sweep pays there).
         var l = load_light(0u);
-        if SPHERE_MODE == 1u && l.kind == LIGHT_SPHERE {
-            l.color = l.color * PI * l.radius * l.radius;
+        if l.kind == LIGHT_SPHERE {
+            l = sphere_as_point(l);
         }
-        l.kind = LIGHT_POINT;
         let s = sample_light(l, o, rand2(&rng));
         let cos_n = dot(n, s.dir);
         let blocked = trace_any_primary(o, s.dir, shadow_ray_length(s));
         let lit = s.valid && cos_n > 0.0 && !blocked;
-        irradiance = select(vec3f(0.0), s.weight * cos_n * falloff_scale(params.falloff, params.falloff_k, length(l.position - p)), lit);
+        irradiance = select(vec3f(0.0), sample_irradiance(l, p, s, cos_n, params.falloff, params.falloff_k), lit);
     }
     for (var i = 0u; i < select(light_count(), 0u, single_point()); i++) {
         var l = load_light(i);
@@ -73,9 +72,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
                 continue;
             }
             if SPHERE_MODE == 1u {
-                // Raster style: the far-field point light of the sphere.
-                l.color = l.color * PI * l.radius * l.radius;
-                l.kind = LIGHT_POINT;
+                l = sphere_as_point(l); // raster style
             }
         }
         let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);

@@ -81,6 +81,18 @@ fn falloff_scale(falloff: u32, k: f32, d: f32) -> f32 {
     return 1.0;
 }
 
+// What a visible sample `s` of light `l` gives surface point p facing it
+// at cos_n: L cos / pdf (or I cos / d^2), times the falloff's scale.
+fn sample_irradiance(l: Light, p: vec3f, s: LightSample, cos_n: f32, falloff: u32, falloff_k: f32) -> vec3f {
+    return s.weight * cos_n * falloff_scale(falloff, falloff_k, length(l.position - p));
+}
+
+// Sphere light `l` as the far-field point light the raster-style point
+// mode shades: intensity L pi r^2 at its centre.
+fn sphere_as_point(l: Light) -> Light {
+    return Light(l.position, l.radius, l.color * PI * l.radius * l.radius, LIGHT_POINT);
+}
+
 // The mean over `count` samples (0 counts as 1) of L cos / pdf (or
 // I cos / d^2) from light l at surface point p with normal n; o is p
 // offset off the surface.
@@ -93,7 +105,7 @@ fn light_irradiance(l: Light, p: vec3f, n: vec3f, o: vec3f, count: u32, falloff:
         let cos_n = dot(n, s.dir);
         let unlit = !s.valid || cos_n <= 0.0 || !light_visible(o, s);
         if !unlit {
-            sum += s.weight * cos_n * falloff_scale(falloff, falloff_k, length(l.position - p));
+            sum += sample_irradiance(l, p, s, cos_n, falloff, falloff_k);
         }
         continuing {
             k++;

@@ -511,6 +511,14 @@ fn missing_constant() {
 }
 
 #[test]
+fn the_engines_per_frame_constant_is_not_the_graphs() {
+    let mut shader = constants_shader();
+    shader.overrides.push(OverrideInfo { name: "CAMERA_STILL".into(), scalar: ScalarType::Bool, has_default: true });
+    let e = fail_with(&with_constants("SCALE: 1.0, CAMERA_STILL: 1"), &[shader]);
+    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `CAMERA_STILL` is set by the engine per frame"]);
+}
+
+#[test]
 fn bad_constant() {
     let e = fail_with(&with_constants("SCALE: 1.0, FAST: 2"), &[constants_shader()]);
     check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `FAST` is Bool"]);

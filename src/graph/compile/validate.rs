@@ -343,6 +343,9 @@ fn check_constants(pass: &PassDesc, shader: &ShaderInfo) -> Result<Vec<(String, 
                 format!("unknown constant `{k}`; {} overrides: {}", shader.name, names(shader.overrides.iter().map(|o| &o.name))),
             ));
         };
+        if k == crate::graph::pipelines::CAMERA_STILL {
+            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is set by the engine per frame (a still camera picks its pipeline); a graph cannot set it")));
+        }
         let fits = match o.scalar {
             ScalarType::F32 => v.is_finite(),
             ScalarType::U32 => v.fract() == 0.0 && *v >= 0.0,
