@@ -1,4 +1,4 @@
-// The scene's two-level BVH (mirrors src/bvh/build.rs and src/bvh/scene.rs).
+// The scene's two-level BVH (mirrors src/bvh/build/mod.rs and src/bvh/scene.rs).
 // One node array: the TLAS from index 0, then one BLAS per mesh.
 // Interior: count == 0, children at left_first and left_first + 1.
 // BLAS leaf: triangles left_first .. left_first + count.

@@ -195,7 +195,7 @@ fn next_up(x: f32) -> f32 {
 // The traversal stacks. Module-scope private memory is zero-initialised
 // once per invocation, not once per call. The TLAS and each BLAS have
 // their own (their depths are bounded separately: TLAS_MAX_DEPTH and
-// BLAS_MAX_DEPTH in src/bvh/build.rs). The TLAS's entries are (node, entry
+// BLAS_MAX_DEPTH in src/bvh/build/mod.rs). The TLAS's entries are (node, entry
 // distance bits); the BLAS's are node references alone (node_ref), without
 // the distance: lavapipe stores and loads dynamically indexed private
 // memory one lane and one component at a time on every trip of the loop.
