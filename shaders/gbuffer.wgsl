@@ -2,7 +2,7 @@
 // 1, for accumulation). Writes hit position and distance, the shading
 // normal faced toward the camera (w: the material's specular share), and (material, object) ids.
 // A miss stores distance -1 and the ray direction in xyz, object NO_HIT.
-#import flat
+#import origins
 #import rng
 
 struct Params {
@@ -26,9 +26,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if params.jitter != 0u {
         jitter = rand2(&rng);
     }
-    let ro = frame.camera.origin;
     let rd = camera_dir(frame.camera, id.xy, jitter);
-    let hit = trace_primary(ro, rd, 3.0e38);
+    let hit = trace_camera(rd, 3.0e38);
     let found = hit_found(hit);
     // One store per texture, hit or miss: CPU drivers run both sides of a
     // branch under a lane mask, so a store on each side costs two.

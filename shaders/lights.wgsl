@@ -5,7 +5,7 @@
 //   POINT_LIGHTS: whether point lights are shaded here.
 // Falloff 0 is physical (inverse square); 1 is the thesis's exponential,
 // exp(-falloff_k d) in place of 1/d^2.
-#import flat
+#import origins
 #import lights
 
 override SPHERE_MODE: u32 = 2u;
@@ -51,14 +51,15 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
     if single_point() {
         // One light, shaded as a point: one shadow ray, at the top level
-        // of the shader (trace_any_primary's written-out sweep pays there).
+        // of the shader (the written-out sweep pays there), traced from
+        // the light on flat scenes (shared/origins.wgsl).
         var l = load_light(0u);
         if l.kind == LIGHT_SPHERE {
             l = sphere_as_point(l);
         }
         let s = sample_light(l, o, rand2(&rng));
         let cos_n = dot(n, s.dir);
-        let blocked = trace_any_primary(o, s.dir, shadow_ray_length(s));
+        let blocked = trace_any_from_light(l.position, o, s.dir, shadow_ray_length(s));
         let lit = s.valid && cos_n > 0.0 && !blocked;
         irradiance = select(vec3f(0.0), sample_irradiance(l, p, s, cos_n, params.falloff, params.falloff_k), lit);
     }

@@ -48,9 +48,8 @@ fn flat_triangles4(r: Ray, k: u32, tmax: f32, best: ptr<function, Closest>) {
     flat_triangle(r, k + 3u, tmax, best);
 }
 
-// The closest hit in (0, tmax) among the flat scene's primitives, ties to
-// the lower id: what brute_force finds, bit for bit.
-fn flat_sweep(r: Ray, tmax: f32) -> Closest {
+// The spheres of a flat scene along o + t d, closest first, as flat_sweep.
+fn flat_sphere_sweep(r: Ray, tmax: f32) -> Closest {
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
     flat_spheres4(r, 0u, tmax, &best);
     flat_spheres4(r, 4u, tmax, &best);
@@ -60,6 +59,13 @@ fn flat_sweep(r: Ray, tmax: f32) -> Closest {
     flat_spheres4(r, 20u, tmax, &best);
     flat_spheres4(r, 24u, tmax, &best);
     flat_spheres4(r, 28u, tmax, &best);
+    return best;
+}
+
+// The closest hit in (0, tmax) among the flat scene's primitives, ties to
+// the lower id: what brute_force finds, bit for bit.
+fn flat_sweep(r: Ray, tmax: f32) -> Closest {
+    var best = flat_sphere_sweep(r, tmax);
     flat_triangles4(r, 0u, tmax, &best);
     flat_triangles4(r, 4u, tmax, &best);
     flat_triangles4(r, 8u, tmax, &best);

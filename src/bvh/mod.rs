@@ -6,6 +6,7 @@
 pub mod aabb;
 pub mod build;
 pub mod offset;
+pub mod origin;
 pub mod ray;
 pub mod scene;
 #[cfg(test)]

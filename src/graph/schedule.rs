@@ -30,10 +30,13 @@ pub enum EngineResource {
     Lights,
     /// The TLAS instances.
     Instances,
+    /// A flat scene's triangles seen from the camera and light 0
+    /// (`crate::scene::origins`).
+    Origins,
 }
 
 impl EngineResource {
-    pub const ALL: [EngineResource; 8] = [
+    pub const ALL: [EngineResource; 9] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Geometry,
@@ -42,6 +45,7 @@ impl EngineResource {
         EngineResource::Materials,
         EngineResource::Lights,
         EngineResource::Instances,
+        EngineResource::Origins,
     ];
 
     pub fn name(self) -> &'static str {
@@ -54,6 +58,7 @@ impl EngineResource {
             EngineResource::Materials => "scene_materials",
             EngineResource::Lights => "scene_lights",
             EngineResource::Instances => "scene_instances",
+            EngineResource::Origins => "scene_origins",
         }
     }
 
@@ -70,6 +75,7 @@ impl EngineResource {
             | EngineResource::Geometry
             | EngineResource::Normals
             | EngineResource::Instances
+            | EngineResource::Origins
             | EngineResource::Materials
             | EngineResource::Lights => EngineKind::Texture,
             EngineResource::Meshes => EngineKind::Storage,

@@ -25,6 +25,7 @@
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
+use crate::scene::origins::origin_table;
 use crate::scene::SceneData;
 
 /// Scenes with at most this many primitives (spheres and triangles) are
@@ -174,6 +175,9 @@ pub struct SceneBuffers {
     pub materials: SceneTexture,
     pub lights: SceneTexture,
     pub instances: SceneTexture,
+    /// The flat scene seen from the camera and light 0 (`origins`).
+    pub origins: SceneTexture,
+    origin_table: Vec<[f32; 4]>,
     pub data: SceneData,
     /// Bumped whenever anything visible changed.
     pub epoch: u32,
@@ -192,6 +196,7 @@ fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buf
 
 impl SceneBuffers {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, data: SceneData) -> SceneBuffers {
+        let origin_table = origin_table(&data, [0.0; 3]);
         SceneBuffers {
             spheres: SceneTexture::new(device, queue, "scene_spheres", &data.spheres),
             geometry: SceneTexture::from_bytes(device, queue, "scene_geometry", &geometry_bytes(&data)),
@@ -200,6 +205,8 @@ impl SceneBuffers {
             materials: SceneTexture::new(device, queue, "scene_materials", &data.materials),
             lights: SceneTexture::new(device, queue, "scene_lights", &data.lights),
             instances: SceneTexture::new(device, queue, "scene_instances", &data.instances),
+            origins: SceneTexture::new(device, queue, "scene_origins", &origin_table),
+            origin_table,
             data,
             epoch: 0,
         }
@@ -248,6 +255,16 @@ impl SceneBuffers {
             self.data = data;
         }
         changed
+    }
+
+    /// Rebuilds `scene_origins` for the camera at `camera` (relative to the
+    /// rebasing origin, as in the frame uniform) and the scene as it is
+    /// now, and writes what changed: a still camera in a still scene
+    /// writes nothing.
+    pub fn set_origins(&mut self, queue: &wgpu::Queue, camera: [f32; 3]) {
+        let table = origin_table(&self.data, camera);
+        self.origins.write_changes(queue, 0, bytemuck::cast_slice(&self.origin_table), bytemuck::cast_slice(&table));
+        self.origin_table = table;
     }
 
     /// Whether rays test every primitive instead of walking the BVH (the

@@ -18,6 +18,7 @@ mod load;
 mod locate;
 mod more_lights;
 mod obj;
+pub mod origins;
 mod pack;
 mod schema;
 pub mod specialise;

@@ -189,6 +189,7 @@ impl Session {
         self.scene.update(&self.gpu.queue, time, world_camera.position);
         let origin = self.scene.origin;
         let camera = CameraGpu::new(&world_camera, origin, self.size);
+        self.scene.buffers.set_origins(&self.gpu.queue, camera.origin);
         let epoch = self.scene.buffers.epoch;
         let st = &mut self.state;
         let prev_camera = match st.last {

@@ -149,6 +149,7 @@ impl SceneGpu {
             EngineResource::Meshes => b.meshes.as_entire_binding(),
             EngineResource::Materials => wgpu::BindingResource::TextureView(b.materials.view()),
             EngineResource::Lights => wgpu::BindingResource::TextureView(b.lights.view()),
+            EngineResource::Origins => wgpu::BindingResource::TextureView(b.origins.view()),
         }
     }
 }
