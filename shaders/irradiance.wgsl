@@ -136,7 +136,7 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
             // lights there are (their sum is n times its mean).
             if light_count() > 0u {
                 let i = min(u32(rand_f32(rng) * f32(light_count())), light_count() - 1u);
-                e += f32(light_count()) * light_irradiance(load_light(i), hit.position, n, next, 1u, 0u, 0.0, rng);
+                e += f32(light_count()) * light_irradiance(i, load_light(i), hit.position, n, next, 1u, 0u, 0.0, rng);
             }
             out += atten * base / PI * e;
         }

@@ -77,7 +77,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             }
         }
         let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
-        irradiance += light_irradiance(l, p, n, o, count, params.falloff, params.falloff_k, &rng);
+        irradiance += light_irradiance(i, l, p, n, o, count, params.falloff, params.falloff_k, &rng);
     }
     let radiance = finite_or_zero(base / PI * irradiance);
     // One store, the light added only where a lit surface is: CPU drivers

@@ -65,7 +65,7 @@ fn shade_hit(hit: Hit, dir: vec3f, rng: ptr<function, Rng>) -> vec3f {
     let o = offset_ray(hit.position, ng);
     var e = vec3f(0.0);
     for (var i = 0u; i < light_count(); i++) {
-        e += light_irradiance(load_light(i), hit.position, n, o, 1u, 0u, 0.0, rng);
+        e += light_irradiance(i, load_light(i), hit.position, n, o, 1u, 0u, 0.0, rng);
     }
     if params.bounces != 0u {
         e += ddgi_irradiance_at(hit.position, n, -dir);

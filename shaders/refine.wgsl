@@ -54,7 +54,7 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
         if l.kind == LIGHT_SPHERE {
-            direct += light_irradiance(l, p, n, o, max(params.samples, 1u), params.falloff, params.falloff_k, &rng);
+            direct += light_irradiance(i, l, p, n, o, max(params.samples, 1u), params.falloff, params.falloff_k, &rng);
         }
     }
     let extra = finite_or_zero(base / PI * direct);

@@ -111,12 +111,13 @@ struct PairHit {
 }
 
 // The closest hit along ro + t rd (a miss without `want_hit`) and whether
-// anything blocks the shadow ray so + t sd in (0, shadow_tmax) (0: no
-// shadow ray). Flat scenes load
-// each primitive once for both rays, in one loop (the loads are most of a
-// flat ray's cost); elsewhere these are two traversals. The same answers
-// as trace_closest and trace_any, bit for bit.
-fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow_tmax: f32) -> PairHit {
+// anything blocks the shadow ray so + t sd in (0, shadow_tmax) toward
+// light `shadow_light` (NO_LIGHT: any; shadow_tmax 0: no shadow ray).
+// Flat scenes load each sphere once for both rays, in one loop (the loads
+// are most of a flat ray's cost), and test the shadow ray against the
+// light's occluders alone; elsewhere these are two traversals. The same
+// answers as trace_closest and trace_any, bit for bit.
+fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow_tmax: f32, shadow_light: u32) -> PairHit {
     let tmax = 3.0e38;
     if BRUTE_FORCE || !FLAT_SCENE {
         var hit = no_hit(tmax);
@@ -157,17 +158,67 @@ fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow
             if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
                 best = Closest(h.x, i, h.yz);
             }
-            let hs = hit_triangle(b, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, shadow_bound);
-            blocked = blocked || (hs.x > 0.0 && hs.x < shadow_tmax);
             continuing {
                 i++;
                 break if i >= frame.n_triangles;
             }
         }
+        blocked = blocked || occluders_block(b, shadow_light, shadow_tmax);
     }
     // Rays traverse() would refuse (NaN, infinite, zero) miss. The loop
     // ran for every lane anyway; the hit is dropped where none is wanted.
     let ok = want_hit && traceable(a);
     let c = Closest(select(tmax, best.t, ok), select(NO_HIT, best.prim, ok), best.uv);
     return PairHit(closest_hit(c, ro, rd, tmax), blocked && traceable(b));
+}
+
+// Whether one of light `light`'s occluders (a flat scene's triangles that
+// can shadow it at all: occluder_count in shared/scene.wgsl) lies on r in
+// (0, tmax). In a room around its light that is none, and the loop's one
+// masked trip is all a shadow ray pays for the walls.
+fn occluders_block(r: Ray, light: u32, tmax: f32) -> bool {
+    let n = occluder_count(light);
+    let bound = next_up(tmax);
+    var blocked = false;
+    if SCENE_MESHES && n > 0u {
+        var j = 0u;
+        loop {
+            let tri = load_triangle(occluder(light, j));
+            let h = hit_triangle(r, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, bound);
+            blocked = blocked || (h.x > 0.0 && h.x < tmax);
+            continuing {
+                j++;
+                break if j >= n;
+            }
+        }
+    }
+    return blocked;
+}
+
+// trace_any for a shadow ray toward light `light` (NO_LIGHT: any): on flat
+// scenes every sphere and the light's occluders, in loops (a shadow ray
+// inside a loop; see flat_sweep for why not written out). The same
+// verdicts as trace_any, bit for bit: the triangles left out cannot block
+// a shadow ray toward that light.
+fn trace_shadow(light: u32, o: vec3f, rd: vec3f, tmax: f32) -> bool {
+    if BRUTE_FORCE || !FLAT_SCENE {
+        return trace_any(o, rd, tmax);
+    }
+    let r = make_ray(o, rd);
+    let bound = next_up(tmax);
+    var blocked = false;
+    if SCENE_SPHERES && frame.n_spheres > 0u {
+        var i = 0u;
+        loop {
+            let s = load_sphere(i);
+            let t = ray_sphere(r.o, r.d, s.geo.xyz, s.geo.w, 0.0, bound);
+            blocked = blocked || (t > 0.0 && t < tmax);
+            continuing {
+                i++;
+                break if i >= frame.n_spheres;
+            }
+        }
+    }
+    blocked = blocked || occluders_block(r, light, tmax);
+    return blocked && traceable(r);
 }

@@ -1,5 +1,5 @@
 // Light sampling shared by the lights pass and the path tracer.
-#import intersect
+#import flat
 #import rng
 #import sampling
 
@@ -62,9 +62,9 @@ fn light_pdf(l: Light, p: vec3f) -> f32 {
     return cone_pdf(sphere_one_minus_cos(d, l.radius));
 }
 
-// Whether the light sample is visible from the offset origin `o`.
-fn light_visible(o: vec3f, s: LightSample) -> bool {
-    return !trace_any(o, s.dir, shadow_ray_length(s));
+// Whether sample `s` of light `i` is visible from the offset origin `o`.
+fn light_visible(i: u32, o: vec3f, s: LightSample) -> bool {
+    return !trace_shadow(i, o, s.dir, shadow_ray_length(s));
 }
 
 // How far a shadow ray toward the sample goes: just short of the light.
@@ -94,16 +94,16 @@ fn sphere_as_point(l: Light) -> Light {
 }
 
 // The mean over `count` samples (0 counts as 1) of L cos / pdf (or
-// I cos / d^2) from light l at surface point p with normal n; o is p
+// I cos / d^2) from light l (index i) at surface point p with normal n; o is p
 // offset off the surface.
-fn light_irradiance(l: Light, p: vec3f, n: vec3f, o: vec3f, count: u32, falloff: u32, falloff_k: f32, rng: ptr<function, Rng>) -> vec3f {
+fn light_irradiance(i: u32, l: Light, p: vec3f, n: vec3f, o: vec3f, count: u32, falloff: u32, falloff_k: f32, rng: ptr<function, Rng>) -> vec3f {
     var sum = vec3f(0.0);
     // Tested at the bottom (see brute_force): lights_area 0.86x the time.
     var k = 0u;
     loop {
         let s = sample_light(l, o, rand2(rng));
         let cos_n = dot(n, s.dir);
-        let unlit = !s.valid || cos_n <= 0.0 || !light_visible(o, s);
+        let unlit = !s.valid || cos_n <= 0.0 || !light_visible(i, o, s);
         if !unlit {
             sum += sample_irradiance(l, p, s, cos_n, falloff, falloff_k);
         }

@@ -10,13 +10,7 @@
 // Spheres are tested as the flat sweep tests them.
 #import flat
 
-@group(1) @binding(9) var scene_origins: texture_storage_2d<rgba32uint, read>;
-
-// Mirrors src/scene/origins.rs: the camera's row, light 0's row, and the
-// texels of a row (three per triangle slot).
-const ORIGIN_CAMERA: u32 = 0u;
-const ORIGIN_LIGHT: u32 = 1u;
-const ORIGIN_ROW_TEXELS: u32 = 96u;
+// The table is scene_origins (shared/scene.wgsl).
 
 // Triangle k against the ray from row `row`'s origin along d (any length):
 // (t, b1, b2) with t in (0, tmax) in units of d, or t = -1. Inclusive
@@ -44,33 +38,33 @@ fn plain_ray(o: vec3f, d: vec3f) -> Ray {
     return Ray(o, d, vec3f(0.0), no, no, vec3f(0.0), vec3f(0.0));
 }
 
-fn origin_triangle(row: u32, d: vec3f, k: u32, tmin: f32, tmax: f32, best: ptr<function, Closest>) {
+fn origin_triangle(row: u32, d: vec3f, k: u32, tmax: f32, best: ptr<function, Closest>) {
     if k < FLAT_TRIANGLES {
         let h = hit_from_origin(row, k, d, next_up((*best).t));
-        if h.x > tmin && h.x < tmax && closer(h.x, k, *best) {
+        if h.x > 0.0 && h.x < tmax && closer(h.x, k, *best) {
             *best = Closest(h.x, k, h.yz);
         }
     }
 }
 
-fn origin_triangles4(row: u32, d: vec3f, k: u32, tmin: f32, tmax: f32, best: ptr<function, Closest>) {
-    origin_triangle(row, d, k, tmin, tmax, best);
-    origin_triangle(row, d, k + 1u, tmin, tmax, best);
-    origin_triangle(row, d, k + 2u, tmin, tmax, best);
-    origin_triangle(row, d, k + 3u, tmin, tmax, best);
+fn origin_triangles4(row: u32, d: vec3f, k: u32, tmax: f32, best: ptr<function, Closest>) {
+    origin_triangle(row, d, k, tmax, best);
+    origin_triangle(row, d, k + 1u, tmax, best);
+    origin_triangle(row, d, k + 2u, tmax, best);
+    origin_triangle(row, d, k + 3u, tmax, best);
 }
 
-// The closest triangle in (tmin, tmax) along the ray from row `row`'s
-// origin into `best`, every slot written out as in flat_sweep.
-fn origin_sweep(row: u32, d: vec3f, tmin: f32, tmax: f32, best: ptr<function, Closest>) {
-    origin_triangles4(row, d, 0u, tmin, tmax, best);
-    origin_triangles4(row, d, 4u, tmin, tmax, best);
-    origin_triangles4(row, d, 8u, tmin, tmax, best);
-    origin_triangles4(row, d, 12u, tmin, tmax, best);
-    origin_triangles4(row, d, 16u, tmin, tmax, best);
-    origin_triangles4(row, d, 20u, tmin, tmax, best);
-    origin_triangles4(row, d, 24u, tmin, tmax, best);
-    origin_triangles4(row, d, 28u, tmin, tmax, best);
+// The closest triangle in (0, tmax) along the ray from row `row`'s origin
+// into `best`, every slot written out as in flat_sweep.
+fn origin_sweep(row: u32, d: vec3f, tmax: f32, best: ptr<function, Closest>) {
+    origin_triangles4(row, d, 0u, tmax, best);
+    origin_triangles4(row, d, 4u, tmax, best);
+    origin_triangles4(row, d, 8u, tmax, best);
+    origin_triangles4(row, d, 12u, tmax, best);
+    origin_triangles4(row, d, 16u, tmax, best);
+    origin_triangles4(row, d, 20u, tmax, best);
+    origin_triangles4(row, d, 24u, tmax, best);
+    origin_triangles4(row, d, 28u, tmax, best);
 }
 
 // trace_closest from the camera (frame.camera.origin) along the unit
@@ -84,27 +78,36 @@ fn trace_camera(rd: vec3f, tmax: f32) -> Hit {
     }
     let r = plain_ray(ro, rd);
     var best = flat_sphere_sweep(r, tmax);
-    origin_sweep(ORIGIN_CAMERA, rd, 0.0, tmax, &best);
+    origin_sweep(ORIGIN_CAMERA, rd, tmax, &best);
     let ok = traceable(r);
     return closest_hit(Closest(select(tmax, best.t, ok), select(NO_HIT, best.prim, ok), best.uv), ro, rd, tmax);
 }
 
 // trace_any(o, rd, tmax) for a shadow ray toward light 0 as a point light
-// (`light`: its position, rd: the unit direction from o to it), for a
-// shader's one shadow ray outside any loop or branch: on flat scenes the
-// triangles are tested along the ray from the light to o, where the
-// segment from o to tmax is t in (1 - tmax / |o - light|, 1). The same
-// verdicts as trace_any up to the rounding of the two triangle tests.
+// (`light`: its position, rd: the unit direction from o to it): on flat
+// scenes light 0's occluders (the triangles that can shadow it at all) are
+// tested along the ray from the light to o, where the segment from o to
+// tmax is t in (1 - tmax / |o - light|, 1). The same verdicts as trace_any
+// up to the rounding of the two triangle tests.
 fn trace_any_from_light(light: vec3f, o: vec3f, rd: vec3f, tmax: f32) -> bool {
     if BRUTE_FORCE || !FLAT_SCENE {
         return trace_any(o, rd, tmax);
     }
     let r = plain_ray(o, rd);
-    let spheres = flat_sphere_sweep(r, tmax);
+    var blocked = flat_sphere_sweep(r, tmax).prim != NO_HIT;
     let back = o - light;
     let near = max(1.0 - tmax / length(back), 0.0);
-    var best = Closest(1.0, NO_HIT, vec2f(0.0));
-    origin_sweep(ORIGIN_LIGHT, back, near, 1.0, &best);
-    let blocked = spheres.prim != NO_HIT || best.prim != NO_HIT;
+    let n = occluder_count(0u);
+    if SCENE_MESHES && n > 0u {
+        var j = 0u;
+        loop {
+            let h = hit_from_origin(ORIGIN_LIGHT, occluder(0u, j), back, 1.0);
+            blocked = blocked || h.x > near;
+            continuing {
+                j++;
+                break if j >= n;
+            }
+        }
+    }
     return blocked && traceable(r);
 }

@@ -126,7 +126,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
                 out.shadow_dir = s.dir;
                 out.shadow_tmax = shadow_ray_length(s);
                 out.shadowed_light = light;
-            } else if light_visible(o, s) {
+            } else if light_visible(i, o, s) {
                 (*st).result += light;
             }
         }
@@ -171,7 +171,7 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
             break;
         }
         // A path that ends here (or at max_depth) needs no next hit.
-        let next = trace_pair(b.o, st.rd, b.go_on && depth + 1u < max_depth, b.o, b.shadow_dir, b.shadow_tmax);
+        let next = trace_pair(b.o, st.rd, b.go_on && depth + 1u < max_depth, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
         if !next.blocked {
             st.result += b.shadowed_light;
         }

@@ -40,7 +40,7 @@ fn shade(p: vec3f, n: vec3f, m: Material, extra: vec3f, rng: ptr<function, Rng>)
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
         let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
-        e += light_irradiance(l, p, n, o, count, 0u, 0.0, rng);
+        e += light_irradiance(i, l, p, n, o, count, 0u, 0.0, rng);
     }
     e += extra;
     return finite_or_zero(m.albedo * (1.0 - m.specular) / PI * e);

@@ -62,6 +62,10 @@ struct Light {
 @group(1) @binding(4) var scene_materials: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(5) var scene_lights: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(8) var scene_normals: texture_storage_2d<rgba32uint, read>;
+// What the engine works out per frame for a flat scene (src/scene/origins.rs):
+// its triangles' edge planes through the camera and light 0
+// (shared/origins.wgsl), then each light's occluder list.
+@group(1) @binding(9) var scene_origins: texture_storage_2d<rgba32uint, read>;
 
 // Mirrors SCENE_TEXTURE_WIDTH in src/scene/buffers.rs.
 const SCENE_TEXTURE_WIDTH_LOG2: u32 = 12u;
@@ -160,4 +164,33 @@ const NO_OBJECT: u32 = 0xffffffffu;
 // on: a hit, and not an emitter (those show their own emission).
 fn is_lit_surface(ids: vec4u) -> bool {
     return ids.y != NO_OBJECT && !is_emissive(load_material(ids.x));
+}
+
+// The layout of scene_origins (mirrors src/scene/origins.rs): ORIGIN_ROWS
+// rows of edge planes (three texels a triangle slot), the camera's and
+// light 0's, then an occluder list for each of the first OCCLUDER_LIGHTS
+// lights (a count, then one triangle index a texel).
+const ORIGIN_ROW_TEXELS: u32 = 96u;
+const ORIGIN_ROWS: u32 = 2u;
+const ORIGIN_CAMERA: u32 = 0u;
+const ORIGIN_LIGHT: u32 = 1u;
+const OCCLUDER_LIGHTS: u32 = 8u;
+const OCCLUDER_ROW_TEXELS: u32 = 33u;
+// A shadow ray toward no light in particular: every triangle may block it.
+const NO_LIGHT: u32 = 0xffffffffu;
+
+// The first texel of light `light`'s occluder list.
+fn occluder_row(light: u32) -> u32 {
+    return ORIGIN_ROWS * ORIGIN_ROW_TEXELS + min(light, OCCLUDER_LIGHTS - 1u) * OCCLUDER_ROW_TEXELS;
+}
+
+// How many of a flat scene's triangles can block a shadow ray toward light
+// `light`: its list's count, or every triangle for a light without a list.
+fn occluder_count(light: u32) -> u32 {
+    return select(frame.n_triangles, scene_texel(scene_origins, occluder_row(light)).x, light < OCCLUDER_LIGHTS);
+}
+
+// The j-th of them.
+fn occluder(light: u32, j: u32) -> u32 {
+    return select(j, scene_texel(scene_origins, occluder_row(light) + 1u + j).x, light < OCCLUDER_LIGHTS);
 }

@@ -25,7 +25,9 @@
 use bytemuck::Pod;
 use wgpu::util::DeviceExt;
 
-use crate::scene::origins::origin_table;
+use glam::Vec3;
+
+use crate::scene::origins::{origin_table, Viewpoints};
 use crate::scene::SceneData;
 
 /// Scenes with at most this many primitives (spheres and triangles) are
@@ -175,9 +177,13 @@ pub struct SceneBuffers {
     pub materials: SceneTexture,
     pub lights: SceneTexture,
     pub instances: SceneTexture,
-    /// The flat scene seen from the camera and light 0 (`origins`).
+    /// The flat scene seen from the camera and light 0, and each light's
+    /// occluders (`origins`).
     pub origins: SceneTexture,
-    origin_table: Vec<[f32; 4]>,
+    origin_table: Vec<[u32; 4]>,
+    /// Whether the occluder lists leave out the triangles that cannot
+    /// shadow their light (tests turn it off to compare).
+    pub cull_occluders: bool,
     pub data: SceneData,
     /// Bumped whenever anything visible changed.
     pub epoch: u32,
@@ -196,7 +202,7 @@ fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buf
 
 impl SceneBuffers {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, data: SceneData) -> SceneBuffers {
-        let origin_table = origin_table(&data, [0.0; 3]);
+        let origin_table = origin_table(&data, &Viewpoints { camera: Vec3::ZERO, probes: None }, true);
         SceneBuffers {
             spheres: SceneTexture::new(device, queue, "scene_spheres", &data.spheres),
             geometry: SceneTexture::from_bytes(device, queue, "scene_geometry", &geometry_bytes(&data)),
@@ -207,6 +213,7 @@ impl SceneBuffers {
             instances: SceneTexture::new(device, queue, "scene_instances", &data.instances),
             origins: SceneTexture::new(device, queue, "scene_origins", &origin_table),
             origin_table,
+            cull_occluders: true,
             data,
             epoch: 0,
         }
@@ -257,12 +264,12 @@ impl SceneBuffers {
         changed
     }
 
-    /// Rebuilds `scene_origins` for the camera at `camera` (relative to the
-    /// rebasing origin, as in the frame uniform) and the scene as it is
-    /// now, and writes what changed: a still camera in a still scene
+    /// Rebuilds `scene_origins` for this frame's viewpoints (relative to
+    /// the rebasing origin, as in the frame uniform) and the scene as it
+    /// is now, and writes what changed: a still camera in a still scene
     /// writes nothing.
-    pub fn set_origins(&mut self, queue: &wgpu::Queue, camera: [f32; 3]) {
-        let table = origin_table(&self.data, camera);
+    pub fn set_origins(&mut self, queue: &wgpu::Queue, view: &Viewpoints) {
+        let table = origin_table(&self.data, view, self.cull_occluders);
         self.origins.write_changes(queue, 0, bytemuck::cast_slice(&self.origin_table), bytemuck::cast_slice(&table));
         self.origin_table = table;
     }

@@ -30,6 +30,7 @@ use crate::graph::pipelines::PipelineCache;
 use crate::graph::{self, CompileOptions, CompiledGraph};
 use crate::scene::Scene;
 use frame_uniform::{CameraGpu, FrameGpu};
+use crate::scene::origins::Viewpoints;
 use rebuild::{Rebuild, RebuildJob, RebuildKind};
 use scene_gpu::SceneGpu;
 
@@ -189,7 +190,6 @@ impl Session {
         self.scene.update(&self.gpu.queue, time, world_camera.position);
         let origin = self.scene.origin;
         let camera = CameraGpu::new(&world_camera, origin, self.size);
-        self.scene.buffers.set_origins(&self.gpu.queue, camera.origin);
         let epoch = self.scene.buffers.epoch;
         let st = &mut self.state;
         let prev_camera = match st.last {
@@ -206,6 +206,8 @@ impl Session {
             None => camera,
         };
         let grid = self.scene.probe_grid(self.executor.schedule.probes);
+        let probes = grid.map(|g| (g.origin, g.position(g.counts - glam::UVec3::ONE)));
+        self.scene.buffers.set_origins(&self.gpu.queue, &Viewpoints { camera: camera.origin.into(), probes });
         let data = &self.scene.buffers.data;
         let frame = FrameGpu {
             camera,
