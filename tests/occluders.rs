@@ -41,7 +41,7 @@ fn occluder_lists_leave_every_image_as_it_was() {
         return;
     }
     for (name, text) in [("cornell", std::fs::read_to_string(repo().join("scenes/cornell.ron")).expect("read cornell")), ("card", CARD.to_string())] {
-        for graph in ["hybrid-point.ron", "hybrid.ron", "pathtrace.ron", "direct.ron"] {
+        for graph in ["hybrid-point.ron", "hybrid.ron", "pathtrace.ron", "direct.ron", "hybrid-gi.ron", "irradiance.ron"] {
             let culled = render(scene_from(&text), graph, true);
             let all = render(scene_from(&text), graph, false);
             let lit = all.data.iter().filter(|p| p[0] > 0.0).count();

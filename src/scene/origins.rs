@@ -37,7 +37,8 @@ pub const OCCLUDER_ROW_TEXELS: usize = 1 + FLAT_LIMIT;
 pub const ORIGIN_TABLE_TEXELS: usize = ORIGIN_ROWS * ORIGIN_ROW_TEXELS + OCCLUDER_LIGHTS * OCCLUDER_ROW_TEXELS;
 
 /// Where rays can start this frame, besides the scene's surfaces: the
-/// camera, and the box of the probe grid when the graph bakes probes.
+/// camera, and the box the graph's probes can be in (their grid, widened
+/// by the distance relocation may move them) when it has probes.
 #[derive(Debug, Clone, Copy)]
 pub struct Viewpoints {
     pub camera: Vec3,
