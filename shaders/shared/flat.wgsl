@@ -1,5 +1,5 @@
 // The primary-ray sweep of a flat scene (at most FLAT_LIMIT primitives,
-// src/scene/buffers.rs), written out slot by slot instead of looped: the
+// src/scene/gpu_types.rs), written out slot by slot instead of looped: the
 // engine's counts (FLAT_SPHERES, FLAT_TRIANGLES) fold the unused slots
 // away, and each texel load has a constant address. At the top level of a
 // shader this takes 0.71x the time of the loop on lavapipe (the gbuffer
@@ -10,7 +10,7 @@
 // trace_primary (below) takes it.
 #import intersect
 
-// Slots of each kind written out below (FLAT_LIMIT in src/scene/buffers.rs).
+// Slots of each kind written out below (FLAT_LIMIT in src/scene/gpu_types.rs).
 const FLAT_SLOTS: u32 = 32u;
 
 // How many slots of each kind hold primitives: set by the engine from the

@@ -282,7 +282,7 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
     return false;
 }
 
-// Set per scene by the engine (FLAT_LIMIT in src/scene/buffers.rs):
+// Set per scene by the engine (FLAT_LIMIT in src/scene/gpu_types.rs):
 // scenes of a few primitives test them all, flat; a loop every SIMD lane
 // runs in step beats a divergent stack traversal there. As a pipeline
 // constant rather than a test of the scene counts, the path not taken is

@@ -30,12 +30,6 @@ use glam::Vec3;
 use crate::scene::origins::{origin_table, Viewpoints};
 use crate::scene::SceneData;
 
-/// Scenes with at most this many primitives (spheres and triangles) are
-/// traced flat: every ray tests every primitive, no BVH. A loop every SIMD
-/// lane runs in step beats a divergent stack traversal there (the Cornell
-/// box, 13 primitives, traces 2-4x faster flat on lavapipe); the hits are
-/// identical either way (ties go to the lower id).
-pub const FLAT_LIMIT: usize = 32;
 
 /// Texels per row of a scene texture (every adapter takes 8192).
 pub const SCENE_TEXTURE_WIDTH: u32 = 4096;
@@ -277,7 +271,7 @@ impl SceneBuffers {
     /// Whether rays test every primitive instead of walking the BVH (the
     /// `FLAT_SCENE` override the executor gives the shaders).
     pub fn is_flat(&self) -> bool {
-        self.data.spheres.len() + self.data.triangles.len() <= FLAT_LIMIT
+        self.data.is_flat()
     }
 
     /// Whether the TLAS holds exactly one instance and it is a mesh (the
@@ -295,6 +289,7 @@ fn is_one_mesh(data: &SceneData) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::FLAT_LIMIT;
     use crate::bvh::BvhNode;
     use crate::scene::TriangleGpu;
 

@@ -16,8 +16,7 @@
 
 use glam::{DVec3, Vec3};
 
-use super::buffers::FLAT_LIMIT;
-use super::{LightGpu, SceneData};
+use super::{LightGpu, SceneData, FLAT_LIMIT};
 use crate::bvh::origin::origin_edges;
 
 /// The row of the camera's position.
@@ -63,7 +62,7 @@ impl Viewpoints {
 /// holds every triangle (what tests compare the lists against).
 pub fn origin_table(data: &SceneData, view: &Viewpoints, cull: bool) -> Vec<[u32; 4]> {
     let mut table = vec![[0u32; 4]; ORIGIN_TABLE_TEXELS];
-    if data.spheres.len() + data.triangles.len() > FLAT_LIMIT {
+    if !data.is_flat() {
         return table;
     }
     let light = data.lights.first().map(|l| l.position);
