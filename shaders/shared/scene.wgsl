@@ -87,6 +87,11 @@ fn load_triangle(i: u32) -> Triangle {
     );
 }
 
+// Vertex k (0, 1 or 2) of triangle i.
+fn load_triangle_vertex(i: u32, k: u32) -> vec3f {
+    return bitcast<vec4f>(scene_texel(scene_geometry, 3u * i + k)).xyz;
+}
+
 fn load_normals(i: u32) -> TriangleNormals {
     let n0 = bitcast<vec4f>(scene_texel(scene_normals, 3u * i));
     let n1 = bitcast<vec4f>(scene_texel(scene_normals, 3u * i + 1u));

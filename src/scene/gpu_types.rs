@@ -109,4 +109,14 @@ impl SceneData {
     pub fn is_flat(&self) -> bool {
         self.spheres.len() + self.triangles.len() <= FLAT_LIMIT
     }
+
+    /// Whether the triangles come in pairs 2k, 2k + 1 that share an edge
+    /// as a quad's two halves do, (a, b, c) and (a, c, d), bit for bit (the
+    /// `FLAT_PAIRS` override of shaders/shared/flat.wgsl). Motion keeps it:
+    /// both halves' shared vertices come from the same mesh vertices
+    /// through the same transform.
+    pub fn flat_pairs(&self) -> bool {
+        let same = |p: [f32; 3], q: [f32; 3]| p.map(f32::to_bits) == q.map(f32::to_bits);
+        self.triangles.len().is_multiple_of(2) && self.triangles.chunks_exact(2).all(|t| same(t[1].p0, t[0].p0) && same(t[1].p1, t[0].p2))
+    }
 }

@@ -724,3 +724,17 @@ fn multiplied_lights_are_copies_beside_the_originals() {
     }
     assert_eq!(s.multiply_lights(1), 0);
 }
+
+#[test]
+fn cornell_triangles_pair_up_as_quads_in_leaf_order() {
+    let s = shipped("cornell.ron");
+    let mut d = s.pack();
+    crate::bvh::scene::SceneBvh::default().update(&mut d);
+    assert!(d.is_flat() && d.flat_pairs(), "the five walls are pairs (a, b, c), (a, c, d)");
+    // A pair in the other order, or a lone triangle, is not.
+    let mut swapped = d.clone();
+    swapped.triangles.swap(0, 1);
+    assert!(!swapped.flat_pairs());
+    d.triangles.pop();
+    assert!(!d.flat_pairs());
+}

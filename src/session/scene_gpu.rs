@@ -29,6 +29,9 @@ pub const ONE_MESH: &str = "ONE_MESH";
 /// the primary-ray sweep there tests exactly those.
 pub const FLAT_SPHERES: &str = "FLAT_SPHERES";
 pub const FLAT_TRIANGLES: &str = "FLAT_TRIANGLES";
+/// The override in `shaders/shared/flat.wgsl` the engine sets from the
+/// scene: a flat scene's triangles pair up as quads (`SceneData::flat_pairs`).
+pub const FLAT_PAIRS: &str = "FLAT_PAIRS";
 
 pub struct SceneGpu {
     pub scene: Scene,
@@ -133,6 +136,7 @@ impl SceneGpu {
             (ONE_MESH, flag(self.buffers.is_one_mesh())),
             (FLAT_SPHERES, count(self.buffers.data.spheres.len())),
             (FLAT_TRIANGLES, count(self.buffers.data.triangles.len())),
+            (FLAT_PAIRS, flag(flat && self.buffers.data.flat_pairs())),
         ]
     }
 
