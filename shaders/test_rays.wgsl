@@ -2,7 +2,7 @@
 // combination of special values (0, -0, NaN, +-Inf, 1, -1, 1e-30) in the
 // ray origin and direction, traced against the scene. Each pixel writes
 // (closest found, any found, t, w): w is 1 when the traces finished and
-// trace_primary, trace_any_primary and trace_pair found what
+// trace_primary and trace_pair found what
 // trace_closest and trace_any found, 2 when they did not.
 #import flat
 
@@ -32,14 +32,13 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let h = trace_closest(o, d, 3.0e38);
     let any = trace_any(o, d, 3.0e38);
     let p = trace_primary(o, d, 3.0e38);
-    let any_top = trace_any_primary(o, d, 3.0e38);
     // trace_pair along the ray itself: its hit and its shadow verdict.
     let pair = trace_pair(o, d, true, o, d, 3.0e38, NO_LIGHT);
     // A shadow ray from elsewhere (origin and direction swapped).
     let apart = trace_pair(o, d, true, d, o, 3.0e38, NO_LIGHT);
     // Wanting no hit and a shadow ray of length 0: neither is traced.
     let none = trace_pair(o, d, false, o, d, 0.0, NO_LIGHT);
-    let agree = bitcast<u32>(p.t) == bitcast<u32>(h.t) && p.object == h.object && any_top == any
+    let agree = bitcast<u32>(p.t) == bitcast<u32>(h.t) && p.object == h.object
         && bitcast<u32>(pair.hit.t) == bitcast<u32>(h.t) && pair.hit.object == h.object && pair.blocked == any
         && bitcast<u32>(apart.hit.t) == bitcast<u32>(h.t) && apart.blocked == trace_any(d, o, 3.0e38)
         && !hit_found(none.hit) && !none.blocked;

@@ -68,11 +68,7 @@ fn quad_pairs_leave_the_path_tracers_image_as_it_was() {
     for graph in [repo().join("passes/pathtrace.ron"), single] {
         let scene = load_scene("cornell.ron");
         let compiled = compile(&scene, &graph, &Default::default());
-        let mut s = session(gpu, scene, &compiled, (64, 48), 3);
-        for _ in 0..3 {
-            s.frame(0.0);
-        }
-        images.push(s.read_output().unwrap_or_else(|e| panic!("{e}")));
+        images.push(render_compiled(gpu, scene, &compiled, (64, 48), 3));
     }
     let differ = images[0].data.iter().zip(&images[1].data).filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits)).count();
     assert_eq!(differ, 0, "{differ} pixels differ between the pair loop and the single one");

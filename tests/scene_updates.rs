@@ -22,6 +22,16 @@ const SCENE: &str = r#"Scene(
     ],
 )"#;
 
+/// One frame of the scene `text` already moved to time `end` when the
+/// session is made (one full upload).
+fn fresh_at(gpu: &glint::gpu::Gpu, text: &str, compiled: &glint::graph::CompiledGraph, size: (u32, u32), end: f32) -> glint::gpu::readback::ImageF32 {
+    let mut scene = scene_from(text);
+    assert!(scene.animate(end));
+    let mut fresh = session(gpu, scene, compiled, size, 1);
+    fresh.frame(end);
+    fresh.read_output().unwrap_or_else(|e| panic!("{e}"))
+}
+
 #[test]
 fn incremental_uploads_match_a_fresh_upload() {
     let Some(gpu) = gpu() else { return };
@@ -39,11 +49,7 @@ fn incremental_uploads_match_a_fresh_upload() {
     let incremental = moved.read_output().unwrap_or_else(|e| panic!("{e}"));
 
     // The scene already at `end` when the renderer is made: one full upload.
-    let mut scene = scene_from(SCENE);
-    assert!(scene.animate(end));
-    let mut fresh = session(gpu, scene, &compiled, size, 1);
-    fresh.frame(end);
-    let full = fresh.read_output().unwrap_or_else(|e| panic!("{e}"));
+    let full = fresh_at(gpu, SCENE, &compiled, size, end);
 
     let hits = full.data.iter().filter(|p| p[0].is_finite()).count();
     assert!(hits > size.0 as usize * size.1 as usize / 10, "the scene should fill the view ({hits} hits)");
@@ -90,11 +96,7 @@ fn origin_tables_follow_the_camera_and_the_light() {
     }
     let incremental = moved.read_output().unwrap_or_else(|e| panic!("{e}"));
 
-    let mut scene = scene_from(FLAT);
-    assert!(scene.animate(end));
-    let mut fresh = session(gpu, scene, &compiled, size, 1);
-    fresh.frame(end);
-    let full = fresh.read_output().unwrap_or_else(|e| panic!("{e}"));
+    let full = fresh_at(gpu, FLAT, &compiled, size, end);
 
     // Some pixels lit and some in shadow, or the test shows nothing.
     let lit = full.data.iter().filter(|p| p[0] > 0.0).count();

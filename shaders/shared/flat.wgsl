@@ -7,7 +7,7 @@
 // more than the loop (lights_point 54-77 against 38 ms): there every
 // value the straight code computes is written under the lane mask, and a
 // loop's last, fully masked trip runs all of it again. So only
-// trace_primary (below) takes it.
+// trace_primary (below) and origins.wgsl take it.
 #import intersect
 
 // Slots of each kind written out below (FLAT_LIMIT in src/scene/gpu_types.rs).
@@ -83,9 +83,10 @@ fn flat_sweep(r: Ray, tmax: f32) -> Closest {
     return best;
 }
 
-// trace_closest for a shader's one ray outside any loop or branch (the
-// G-buffer's primary ray): flat scenes then take the written-out sweep
-// above, which costs more than the loop anywhere else. The same hits.
+// trace_closest for a shader's one ray outside any loop or branch (the ray
+// benchmark's primary ray; the G-buffer's takes trace_camera in
+// origins.wgsl): flat scenes then take the written-out sweep above, which
+// costs more than the loop anywhere else. The same hits, bit for bit.
 fn trace_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     if BRUTE_FORCE || !FLAT_SCENE {
         return trace_closest(ro, rd, tmax);
@@ -96,17 +97,6 @@ fn trace_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     let c = flat_sweep(r, tmax);
     let ok = traceable(r);
     return closest_hit(Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv), ro, rd, tmax);
-}
-
-// trace_any for a shader's one shadow ray outside any loop or branch: the
-// written-out sweep on flat scenes (which then test every primitive, as
-// trace_any does there). The same verdicts.
-fn trace_any_primary(ro: vec3f, rd: vec3f, tmax: f32) -> bool {
-    if BRUTE_FORCE || !FLAT_SCENE {
-        return trace_any(ro, rd, tmax);
-    }
-    let r = make_ray(ro, rd);
-    return flat_sweep(r, tmax).prim != NO_HIT && traceable(r);
 }
 
 // A ray's closest hit and a shadow ray's verdict, traced together.
