@@ -40,7 +40,7 @@ impl Run<'_> {
             ..Default::default()
         };
         let options = CompileOptions { output: self.output.map(str::to_string), edits, no_specialise: self.generic, ..Default::default() };
-        let compiled = graph::load_and_compile(&repo().join("passes").join(self.graph), &repo().join("shaders"), &scene.features, &options)
+        let compiled = graph::load_and_compile(&repo().join("passes").join(self.graph), &repo().join("shaders"), &scene.compile_features(), &options)
             .unwrap_or_else(|e| panic!("{e}"));
         let base = scene.camera;
         let path = CameraPath::parse(&format!("orbit:{}", self.orbit)).expect("orbit");

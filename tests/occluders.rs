@@ -52,25 +52,32 @@ fn occluder_lists_leave_every_image_as_it_was() {
     }
 }
 
-/// The path tracer's bounce rays test a quad's two triangles together
-/// (`FLAT_PAIRS`, set by the engine for the Cornell box): its image equals
-/// the one with the override forced off, bit for bit.
+/// The path tracer's shortcuts on flat scenes leave its image as it was,
+/// bit for bit, against the override forced off: bounce rays test a quad's
+/// two triangles together (`FLAT_PAIRS`, set by the engine for the Cornell
+/// box and the card scene), and shadow rays toward the last light leave
+/// out that light's own sphere (`FLAT_LAST_LIGHT_SPHERE`; 32 is none).
 #[test]
-fn quad_pairs_leave_the_path_tracers_image_as_it_was() {
+fn flat_shortcuts_leave_the_path_tracers_image_as_it_was() {
     let Some(gpu) = gpu() else { return };
     let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("read pathtrace.ron");
-    let forced = text.replace("entry: \"main\",", "entry: \"main\", constants: { FLAT_PAIRS: 0 },");
-    assert_ne!(forced, text);
+    let cornell = std::fs::read_to_string(repo().join("scenes/cornell.ron")).expect("read cornell");
     let dir = scratch("pairs");
-    let single = dir.join("pathtrace-single.ron");
-    std::fs::write(&single, forced).expect("write the graph");
-    let mut images = Vec::new();
-    for graph in [repo().join("passes/pathtrace.ron"), single] {
-        let scene = load_scene("cornell.ron");
-        let compiled = compile(&scene, &graph, &Default::default());
-        images.push(render_compiled(gpu, scene, &compiled, (64, 48), 3));
+    for (constant, off) in [("FLAT_PAIRS", 0), ("FLAT_LAST_LIGHT_SPHERE", 32)] {
+        let forced = text.replace("entry: \"main\",", &format!("entry: \"main\", constants: {{ {constant}: {off} }},"));
+        assert_ne!(forced, text);
+        let off_graph = dir.join(format!("pathtrace-{constant}.ron"));
+        std::fs::write(&off_graph, forced).expect("write the graph");
+        for (name, scene_text) in [("cornell", cornell.as_str()), ("card", CARD)] {
+            let mut images = Vec::new();
+            for graph in [repo().join("passes/pathtrace.ron"), off_graph.clone()] {
+                let scene = scene_from(scene_text);
+                let compiled = compile(&scene, &graph, &Default::default());
+                images.push(render_compiled(gpu, scene, &compiled, (64, 48), 3));
+            }
+            let differ = images[0].data.iter().zip(&images[1].data).filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits)).count();
+            assert_eq!(differ, 0, "{name}: {differ} pixels differ with {constant} forced to {off}");
+        }
     }
-    let differ = images[0].data.iter().zip(&images[1].data).filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits)).count();
-    assert_eq!(differ, 0, "{differ} pixels differ between the pair loop and the single one");
     std::fs::remove_dir_all(&dir).ok();
 }

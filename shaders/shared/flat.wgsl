@@ -106,13 +106,26 @@ struct PairHit {
     blocked: bool,
 }
 
+// Set by the engine (`SceneData::last_light_sphere`): the sphere slot of
+// the last light's own sphere (FLAT_SLOTS: none). A shadow ray toward a
+// point sampled on a sphere light's visible cap ends short of the sphere
+// (shadow_ray_length), so the sphere cannot block it, and trace_pair's
+// shadow ray toward that light leaves it out.
+override FLAT_LAST_LIGHT_SPHERE: u32 = 32u;
+
 // The closest hit along ro + t rd (a miss without `want_hit`) and whether
 // anything blocks the shadow ray so + t sd in (0, shadow_tmax) toward
 // light `shadow_light` (NO_LIGHT: any; shadow_tmax 0: no shadow ray).
-// Flat scenes load each sphere once for both rays, in one loop (the loads
-// are most of a flat ray's cost), and test the shadow ray against the
-// light's occluders alone; elsewhere these are two traversals. The same
-// answers as trace_closest and trace_any, bit for bit.
+// Flat scenes test each sphere once for both rays, and the shadow ray
+// against the light's occluders alone; elsewhere these are two
+// traversals. The same answers as trace_closest and trace_any, bit for bit.
+//
+// The spheres and the quads (FLAT_PAIRS) are written out slot by slot from
+// scene_flat, where each load has a constant offset: lavapipe loads it
+// once and broadcasts it, where a texel fetch in a loop gathered it lane by
+// lane (pathtrace 0.97-0.98x the time of the loops on the Cornell box).
+// Inside the path tracer's bounce loop this costs no more than the loop,
+// unlike the primary-ray sweep's texel loads (see flat_sweep).
 fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow_tmax: f32, shadow_light: u32) -> PairHit {
     let tmax = 3.0e38;
     if BRUTE_FORCE || !FLAT_SCENE {
@@ -124,49 +137,22 @@ fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow
     }
     let a = make_ray(ro, rd);
     let b = make_ray(so, sd);
-    var best = Closest(tmax, NO_HIT, vec2f(0.0));
-    var blocked = false;
-    // The shadow ray's tests as brute_force's: bound next_up(tmax), then < tmax.
-    let shadow_bound = next_up(shadow_tmax);
-    // Loops that test at the bottom (see brute_force).
-    if SCENE_SPHERES && frame.n_spheres > 0u {
-        var i = 0u;
-        loop {
-            let s = load_sphere(i);
-            let t = ray_sphere(a.o, a.d, s.geo.xyz, s.geo.w, 0.0, next_up(best.t));
-            let prim = i | SPHERE_BIT;
-            if t > 0.0 && t < tmax && closer(t, prim, best) {
-                best = Closest(t, prim, vec2f(0.0));
-            }
-            let ts = ray_sphere(b.o, b.d, s.geo.xyz, s.geo.w, 0.0, shadow_bound);
-            blocked = blocked || (ts > 0.0 && ts < shadow_tmax);
-            continuing {
-                i++;
-                break if i >= frame.n_spheres;
-            }
-        }
-    }
-    if SCENE_MESHES && frame.n_triangles > 0u && FLAT_PAIRS {
-        var i = 0u;
-        loop {
-            let tri = load_triangle(i);
-            let d = load_triangle_vertex(i + 1u, 2u);
-            let sa = shear(a, tri.p0.xyz);
-            let sc = shear(a, tri.p2.xyz);
-            let h = hit_sheared(sa, shear(a, tri.p1.xyz), sc, next_up(best.t));
-            if h.x > 0.0 && h.x < tmax && closer(h.x, i, best) {
-                best = Closest(h.x, i, h.yz);
-            }
-            let h2 = hit_sheared(sa, sc, shear(a, d), next_up(best.t));
-            if h2.x > 0.0 && h2.x < tmax && closer(h2.x, i + 1u, best) {
-                best = Closest(h2.x, i + 1u, h2.yz);
-            }
-            continuing {
-                i += 2u;
-                break if i >= frame.n_triangles;
-            }
-        }
-    }
+    var sweep = PairSweep(Closest(tmax, NO_HIT, vec2f(0.0)), false);
+    pair_spheres4(a, b, 0u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(a, b, 4u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(a, b, 8u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(a, b, 12u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(a, b, 16u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(a, b, 20u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(a, b, 24u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(a, b, 28u, shadow_tmax, shadow_light, &sweep);
+    var best = sweep.best;
+    pair_quads4(a, 0u, &best);
+    pair_quads4(a, 4u, &best);
+    pair_quads4(a, 8u, &best);
+    pair_quads4(a, 12u, &best);
+    // Triangles that do not pair up: a loop that tests at the bottom (see
+    // brute_force).
     if SCENE_MESHES && frame.n_triangles > 0u && !FLAT_PAIRS {
         var i = 0u;
         loop {
@@ -181,14 +167,76 @@ fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow
             }
         }
     }
+    var blocked = sweep.blocked;
     if SCENE_MESHES && frame.n_triangles > 0u {
         blocked = blocked || occluders_block(b, shadow_light, shadow_tmax);
     }
-    // Rays traverse() would refuse (NaN, infinite, zero) miss. The loop
+    // Rays traverse() would refuse (NaN, infinite, zero) miss. The sweep
     // ran for every lane anyway; the hit is dropped where none is wanted.
     let ok = want_hit && traceable(a);
     let c = Closest(select(tmax, best.t, ok), select(NO_HIT, best.prim, ok), best.uv);
     return PairHit(closest_hit(c, ro, rd, tmax), blocked && traceable(b));
+}
+
+// What trace_pair's sphere slots find: the ray's closest hit so far and
+// whether the shadow ray is blocked.
+struct PairSweep {
+    best: Closest,
+    blocked: bool,
+}
+
+// Sphere slot k for both of trace_pair's rays (the shadow ray's test as
+// brute_force's: bound next_up(tmax), then < tmax).
+fn pair_sphere(a: Ray, b: Ray, k: u32, shadow_tmax: f32, shadow_light: u32, sweep: ptr<function, PairSweep>) {
+    if SCENE_SPHERES && k < FLAT_SPHERES {
+        let s = flat_sphere_at(k);
+        let t = ray_sphere(a.o, a.d, s.geo.xyz, s.geo.w, 0.0, next_up((*sweep).best.t));
+        let prim = k | SPHERE_BIT;
+        if t > 0.0 && t < 3.0e38 && closer(t, prim, (*sweep).best) {
+            (*sweep).best = Closest(t, prim, vec2f(0.0));
+        }
+        // Folds to a constant where the scene has one light (the path
+        // tracer's shadow ray goes to the last light).
+        let own_light = k == FLAT_LAST_LIGHT_SPHERE && shadow_light + 1u == max(light_count(), 1u);
+        if !own_light {
+            let ts = ray_sphere(b.o, b.d, s.geo.xyz, s.geo.w, 0.0, next_up(shadow_tmax));
+            (*sweep).blocked = (*sweep).blocked || (ts > 0.0 && ts < shadow_tmax);
+        }
+    }
+}
+
+fn pair_spheres4(a: Ray, b: Ray, k: u32, shadow_tmax: f32, shadow_light: u32, sweep: ptr<function, PairSweep>) {
+    pair_sphere(a, b, k, shadow_tmax, shadow_light, sweep);
+    pair_sphere(a, b, k + 1u, shadow_tmax, shadow_light, sweep);
+    pair_sphere(a, b, k + 2u, shadow_tmax, shadow_light, sweep);
+    pair_sphere(a, b, k + 3u, shadow_tmax, shadow_light, sweep);
+}
+
+// Quad slot k (FLAT_PAIRS): triangles 2k = (a, b, c) and 2k + 1 =
+// (a, c, d), their four vertices loaded and sheared once.
+fn pair_quad(r: Ray, k: u32, best: ptr<function, Closest>) {
+    let i = 2u * k;
+    if SCENE_MESHES && FLAT_PAIRS && i < FLAT_TRIANGLES {
+        let tri = flat_triangle_at(i);
+        let d = flat_triangle_at(i + 1u).p2.xyz;
+        let sa = shear(r, tri.p0.xyz);
+        let sc = shear(r, tri.p2.xyz);
+        let h = hit_sheared(sa, shear(r, tri.p1.xyz), sc, next_up((*best).t));
+        if h.x > 0.0 && h.x < 3.0e38 && closer(h.x, i, *best) {
+            *best = Closest(h.x, i, h.yz);
+        }
+        let h2 = hit_sheared(sa, sc, shear(r, d), next_up((*best).t));
+        if h2.x > 0.0 && h2.x < 3.0e38 && closer(h2.x, i + 1u, *best) {
+            *best = Closest(h2.x, i + 1u, h2.yz);
+        }
+    }
+}
+
+fn pair_quads4(r: Ray, k: u32, best: ptr<function, Closest>) {
+    pair_quad(r, k, best);
+    pair_quad(r, k + 1u, best);
+    pair_quad(r, k + 2u, best);
+    pair_quad(r, k + 3u, best);
 }
 
 // Whether one of light `light`'s occluders (a flat scene's triangles that

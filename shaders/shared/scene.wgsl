@@ -66,6 +66,15 @@ struct Light {
 // its triangles' edge planes through the camera and light 0
 // (shared/origins.wgsl), then each light's occluder list.
 @group(1) @binding(9) var scene_origins: texture_storage_2d<rgba32uint, read>;
+// A flat scene's triangles and spheres again, in FLAT_LIMIT slots of each
+// (src/scene/flat_uniform.rs): where a shader writes a flat loop out slot
+// by slot, each load has a constant offset, which lavapipe loads once and
+// broadcasts to the lanes; a texel fetch gathers per lane.
+struct FlatScene {
+    triangles: array<vec4u, 96>,
+    spheres: array<vec4u, 64>,
+}
+@group(1) @binding(10) var<uniform> scene_flat: FlatScene;
 
 // Mirrors SCENE_TEXTURE_WIDTH in src/scene/buffers.rs.
 const SCENE_TEXTURE_WIDTH_LOG2: u32 = 12u;
@@ -85,6 +94,19 @@ fn load_triangle(i: u32) -> Triangle {
         bitcast<vec4f>(scene_texel(scene_geometry, 3u * i + 1u)),
         bitcast<vec4f>(scene_texel(scene_geometry, 3u * i + 2u)),
     );
+}
+
+// Triangle i and sphere i of a flat scene, from scene_flat (i a constant).
+fn flat_triangle_at(i: u32) -> Triangle {
+    return Triangle(
+        bitcast<vec4f>(scene_flat.triangles[3u * i]),
+        bitcast<vec4f>(scene_flat.triangles[3u * i + 1u]),
+        bitcast<vec4f>(scene_flat.triangles[3u * i + 2u]),
+    );
+}
+
+fn flat_sphere_at(i: u32) -> Sphere {
+    return Sphere(bitcast<vec4f>(scene_flat.spheres[2u * i]), scene_flat.spheres[2u * i + 1u]);
 }
 
 // Vertex k (0, 1 or 2) of triangle i.

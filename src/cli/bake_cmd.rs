@@ -172,7 +172,7 @@ pub fn bake(gpu: &Gpu, args: &BakeArgs, progress: bool) -> Result<Baked, UserErr
         return Err(UserError::in_file(&args.graph, format!("the graph has no `{volume}` for {:?} mode", args.mode)));
     }
     let options = CompileOptions { output: Some(volume.to_string()), ..Default::default() };
-    let compiled = graph::compile_loaded(&args.graph, desc, shaders, &scene.features, &options)?;
+    let compiled = graph::compile_loaded(&args.graph, desc, shaders, &scene.compile_features(), &options)?;
     let total: u64 = compiled
         .schedule
         .passes

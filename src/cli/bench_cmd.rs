@@ -120,7 +120,7 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     let graph_path = if Path::new("passes/bench-rays.ron").is_file() { PathBuf::from("passes/bench-rays.ron") } else { graph_path };
     let shader_dir = graph::shader_dir_for(&graph_path);
     let options = CompileOptions { keep: vec!["bench_normal".into()], ..CompileOptions::default() };
-    let mut compiled = graph::load_and_compile(&graph_path, &shader_dir, &scene.features, &options)?;
+    let mut compiled = graph::load_and_compile(&graph_path, &shader_dir, &scene.compile_features(), &options)?;
     if args.trips {
         for pass in compiled.schedule.passes.iter_mut().filter(|p| p.name == "primary") {
             pass.constants.push(("COUNT_TRIPS".into(), 1.0));
@@ -262,7 +262,7 @@ pub(super) fn stress_frame(gpu: &Gpu, mut scene: crate::scene::Scene, args: &Str
     }
     let triangles = scene.triangle_count();
     let shader_dir = graph::shader_dir_for(args.graph);
-    let mut compiled = graph::load_and_compile(args.graph, &shader_dir, &scene.features, &CompileOptions { edits: args.edits.clone(), ..CompileOptions::default() })?;
+    let mut compiled = graph::load_and_compile(args.graph, &shader_dir, &scene.compile_features(), &CompileOptions { edits: args.edits.clone(), ..CompileOptions::default() })?;
     if args.brute_force {
         for pass in &mut compiled.schedule.passes {
             let has = compiled.shaders.get(&pass.shader).is_some_and(|s| s.info.overrides.iter().any(|o| o.name == "BRUTE_FORCE"));

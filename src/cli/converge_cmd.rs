@@ -77,7 +77,7 @@ pub fn run(args: ConvergeArgs) -> Result<(), UserError> {
         path.check(&scene0.camera)?;
     }
     let options = CompileOptions { output: None, edits: args.edits.edits(), no_specialise: args.edits.no_specialise, no_cull: args.edits.no_cull, ..Default::default() };
-    let compiled = graph::load_and_compile(&args.graph, &graph::shader_dir_for(&args.graph), &scene0.features, &options)?;
+    let compiled = graph::load_and_compile(&args.graph, &graph::shader_dir_for(&args.graph), &scene0.compile_features(), &options)?;
     let base = scene0.camera;
     let camera_at = |frame: u32| match &path {
         Some(p) => p.at(&base, args.dt * frame as f32),

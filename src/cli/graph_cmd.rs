@@ -31,7 +31,7 @@ pub struct CheckArgs {
 
 pub fn check(args: CheckArgs) -> Result<(), UserError> {
     let features = match &args.scene {
-        Some(path) => scene::load(path)?.features,
+        Some(path) => scene::load(path)?.compile_features(),
         None => SceneFeatures::all(),
     };
     let dir = args.shaders.clone().unwrap_or_else(|| graph::shader_dir_for(&args.file));

@@ -207,8 +207,10 @@ pub struct PassDesc {
     /// 1 when omitted): the dispatch is the size above with its width
     /// divided by this, rounded up, and the shader covers the rest
     /// (`shaders/pathtrace.wgsl`: a lane starts its next path when one
-    /// ends). A split sample loop (`src/graph/compile/split.rs`) gives such
-    /// a pass's first dispatch fewer samples per texel.
+    /// ends). A pass with a sample loop takes at most as many as its
+    /// scene's loop budget allows (8, or 32 where the scene is flat), and a
+    /// split sample loop (`src/graph/compile/split.rs`) gives its first
+    /// dispatch fewer samples per texel.
     #[serde(default)]
     pub texels_per_invocation: Option<u32>,
     /// A second entry point of the shader, run once per texel the pass's

@@ -33,10 +33,13 @@ pub enum EngineResource {
     /// A flat scene's triangles seen from the camera and light 0
     /// (`crate::scene::origins`).
     Origins,
+    /// A flat scene's triangles and spheres in a uniform buffer
+    /// (`crate::scene::flat_uniform`).
+    Flat,
 }
 
 impl EngineResource {
-    pub const ALL: [EngineResource; 9] = [
+    pub const ALL: [EngineResource; 10] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Geometry,
@@ -46,6 +49,7 @@ impl EngineResource {
         EngineResource::Lights,
         EngineResource::Instances,
         EngineResource::Origins,
+        EngineResource::Flat,
     ];
 
     pub fn name(self) -> &'static str {
@@ -59,6 +63,7 @@ impl EngineResource {
             EngineResource::Lights => "scene_lights",
             EngineResource::Instances => "scene_instances",
             EngineResource::Origins => "scene_origins",
+            EngineResource::Flat => "scene_flat",
         }
     }
 
@@ -70,7 +75,7 @@ impl EngineResource {
     /// textures (`src/scene/buffers.rs` says why).
     pub fn kind(self) -> EngineKind {
         match self {
-            EngineResource::Frame => EngineKind::Uniform,
+            EngineResource::Frame | EngineResource::Flat => EngineKind::Uniform,
             EngineResource::Spheres
             | EngineResource::Geometry
             | EngineResource::Normals

@@ -879,7 +879,7 @@ fn history_written_in_place_keeps_one_texture() {
 
 fn shipped(graph: &str, scene: &str) -> Result<Schedule, UserError> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let features = crate::scene::load(&root.join("scenes").join(scene))?.features;
+    let features = crate::scene::load(&root.join("scenes").join(scene))?.compile_features();
     let g = super::load_and_compile(&root.join("passes").join(graph), &root.join("shaders"), &features, &CompileOptions::default())?;
     Ok(g.schedule)
 }

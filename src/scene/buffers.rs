@@ -27,6 +27,7 @@ use wgpu::util::DeviceExt;
 
 use glam::Vec3;
 
+use crate::scene::flat_uniform::flat_uniform;
 use crate::scene::origins::{origin_table, Viewpoints};
 use crate::scene::SceneData;
 
@@ -174,6 +175,8 @@ pub struct SceneBuffers {
     /// The flat scene seen from the camera and light 0, and each light's
     /// occluders (`origins`).
     pub origins: SceneTexture,
+    /// A flat scene's primitives as a uniform (`flat_uniform`).
+    pub flat: wgpu::Buffer,
     origin_table: Vec<[u32; 4]>,
     /// Whether the occluder lists leave out the triangles that cannot
     /// shadow their light (tests turn it off to compare).
@@ -206,6 +209,11 @@ impl SceneBuffers {
             lights: SceneTexture::new(device, queue, "scene_lights", &data.lights),
             instances: SceneTexture::new(device, queue, "scene_instances", &data.instances),
             origins: SceneTexture::new(device, queue, "scene_origins", &origin_table),
+            flat: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene_flat"),
+                contents: &flat_uniform(&data),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            }),
             origin_table,
             cull_occluders: true,
             data,
@@ -252,6 +260,10 @@ impl SceneBuffers {
         write_texture(queue, &self.lights, 0, &old.lights, &data.lights, &mut changed);
         write_texture(queue, &self.instances, 0, &old.instances, &data.instances, &mut changed);
         changed |= old.background != data.background;
+        let flat = flat_uniform(&data);
+        if flat != flat_uniform(old) {
+            queue.write_buffer(&self.flat, 0, &flat);
+        }
         if changed {
             self.data = data;
         }

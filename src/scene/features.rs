@@ -47,6 +47,11 @@ pub struct SceneFeatures {
     pub motion: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
     pub lights: u32,
+    /// Rays test every primitive instead of walking a BVH (at most
+    /// FLAT_LIMIT of them: `Scene::is_flat`), so a trace loops over at most
+    /// that many primitives; false in `all()`. `Scene::compile_features`
+    /// sets it from the scene as it is when a graph is compiled for it.
+    pub flat: bool,
 }
 
 impl SceneFeatures {
@@ -61,6 +66,7 @@ impl SceneFeatures {
             emissive: true,
             motion: true,
             lights: u32::MAX,
+            flat: false,
         }
     }
 

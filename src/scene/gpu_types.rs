@@ -119,4 +119,17 @@ impl SceneData {
         let same = |p: [f32; 3], q: [f32; 3]| p.map(f32::to_bits) == q.map(f32::to_bits);
         self.triangles.len().is_multiple_of(2) && self.triangles.chunks_exact(2).all(|t| same(t[1].p0, t[0].p0) && same(t[1].p1, t[0].p2))
     }
+
+    /// The sphere of the last light, when that light is a sphere light (the
+    /// `FLAT_LAST_LIGHT_SPHERE` override of shaders/shared/flat.wgsl): a
+    /// shadow ray toward a point sampled on a sphere light's visible cap
+    /// ends short of that sphere, so the sphere cannot block it. Motion
+    /// keeps it: it moves things, it does not renumber them.
+    pub fn last_light_sphere(&self) -> Option<usize> {
+        let last = self.lights.len().checked_sub(1)?;
+        if self.lights[last].kind != LIGHT_SPHERE {
+            return None;
+        }
+        self.spheres.iter().position(|s| usize::try_from(s.light).ok() == Some(last))
+    }
 }

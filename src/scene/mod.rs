@@ -13,6 +13,7 @@
 
 pub mod buffers;
 pub mod features;
+pub mod flat_uniform;
 pub mod gpu_types;
 mod load;
 mod locate;

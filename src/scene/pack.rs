@@ -5,8 +5,9 @@
 
 use glam::{DVec3, Vec3};
 
+use super::features::SceneFeatures;
 use super::gpu_types::{
-    LightGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, LIGHT_POINT, LIGHT_SPHERE,
+    LightGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, FLAT_LIMIT, LIGHT_POINT, LIGHT_SPHERE,
 };
 use super::world::{
     Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, Transform,
@@ -171,6 +172,31 @@ impl Scene {
     }
 
     /// Triangles over all mesh instances (quads count two).
+    /// Spheres `pack` gives the GPU: sphere objects and sphere lights
+    /// with a material (the ones rays can hit).
+    pub fn sphere_count(&self) -> usize {
+        let objects = self.world.query::<(&ObjectId, &Transform, &SphereShape, &MaterialId)>().iter().count();
+        let lights = self
+            .world
+            .query::<(&ObjectId, &LightIndex, &Transform, &Light, &MaterialId)>()
+            .iter()
+            .filter(|(_, _, _, light, _)| matches!(light, Light::Sphere { .. }))
+            .count();
+        objects + lights
+    }
+
+    /// Whether `pack` gives a flat scene (`SceneData::is_flat`), counted
+    /// without packing.
+    pub fn is_flat(&self) -> bool {
+        self.sphere_count() + self.triangle_count() <= FLAT_LIMIT
+    }
+
+    /// What a graph is compiled for: the features found at load, with
+    /// `flat` as the scene is now (entities added since count).
+    pub fn compile_features(&self) -> SceneFeatures {
+        SceneFeatures { flat: self.is_flat(), ..self.features }
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.world
             .query::<&MeshShape>()

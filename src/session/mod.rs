@@ -144,7 +144,7 @@ impl Session {
     /// scene and builds everything.
     pub fn new(gpu: &Gpu, scene: Scene, graph_path: &Path, options: SessionOptions) -> Result<Session, UserError> {
         let shader_dir = options.shader_dir.clone().unwrap_or_else(|| graph::shader_dir_for(graph_path));
-        let compiled = graph::load_and_compile(graph_path, &shader_dir, &scene.features, &options.compile)?;
+        let compiled = graph::load_and_compile(graph_path, &shader_dir, &scene.compile_features(), &options.compile)?;
         Self::with_graph(gpu, scene, compiled, shader_dir, options)
     }
 

@@ -186,7 +186,7 @@ impl RebuildJob {
             }
             RebuildKind::Edits => (current.desc.clone(), current.shaders.clone(), current.path.clone()),
         };
-        let features = scene.as_ref().map_or(current.schedule.features, |s| s.scene.features);
+        let features = scene.as_ref().map_or(current.schedule.features, |s| s.scene.compile_features());
         let graph = graph::compile_loaded(&path, desc, shaders, &features, &options)?;
         let constants = scene.as_ref().map_or(engine_constants, |s| s.engine_constants());
         let pipelines = cache.build(&gpu.device, &graph, &constants)?;

@@ -15,7 +15,7 @@ use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::EngineResource;
 use crate::scene::buffers::{scene_texture_rows, SceneBuffers, SCENE_TEXTURE_WIDTH};
-use crate::scene::{Scene, SceneData};
+use crate::scene::{Scene, SceneData, FLAT_LIMIT};
 
 /// The override in `shaders/shared/intersect.wgsl` the engine sets from the
 /// scene (unless a graph sets it): whether rays test every primitive
@@ -32,6 +32,11 @@ pub const FLAT_TRIANGLES: &str = "FLAT_TRIANGLES";
 /// The override in `shaders/shared/flat.wgsl` the engine sets from the
 /// scene: a flat scene's triangles pair up as quads (`SceneData::flat_pairs`).
 pub const FLAT_PAIRS: &str = "FLAT_PAIRS";
+/// The override in `shaders/shared/flat.wgsl` the engine sets from the
+/// scene: the sphere slot of the last light's own sphere in a flat scene
+/// (`SceneData::last_light_sphere`; FLAT_LIMIT where there is none), which
+/// trace_pair's shadow ray toward that light leaves out.
+pub const FLAT_LAST_LIGHT_SPHERE: &str = "FLAT_LAST_LIGHT_SPHERE";
 
 pub struct SceneGpu {
     pub scene: Scene,
@@ -137,6 +142,7 @@ impl SceneGpu {
             (FLAT_SPHERES, count(self.buffers.data.spheres.len())),
             (FLAT_TRIANGLES, count(self.buffers.data.triangles.len())),
             (FLAT_PAIRS, flag(flat && self.buffers.data.flat_pairs())),
+            (FLAT_LAST_LIGHT_SPHERE, self.buffers.data.last_light_sphere().filter(|_| flat).unwrap_or(FLAT_LIMIT) as f64),
         ]
     }
 
@@ -154,6 +160,7 @@ impl SceneGpu {
             EngineResource::Materials => wgpu::BindingResource::TextureView(b.materials.view()),
             EngineResource::Lights => wgpu::BindingResource::TextureView(b.lights.view()),
             EngineResource::Origins => wgpu::BindingResource::TextureView(b.origins.view()),
+            EngineResource::Flat => b.flat.as_entire_binding(),
         }
     }
 }

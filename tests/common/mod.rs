@@ -63,7 +63,7 @@ pub fn render_with(gpu: &Gpu, scene: Scene, graph_path: &Path, size: (u32, u32),
 
 /// The graph compiled for `scene` (to adjust before `render_compiled`).
 pub fn compile(scene: &Scene, graph_path: &Path, options: &CompileOptions) -> graph::CompiledGraph {
-    graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.features, options).unwrap_or_else(|e| panic!("{e}"))
+    graph::load_and_compile(graph_path, &repo().join("shaders"), &scene.compile_features(), options).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A session for an already compiled graph (shaders from the repo).

@@ -32,7 +32,7 @@ use cull::{cull_by_requires, cull_unreachable};
 use emit::emit_schedule;
 use lifetimes::compute_lifetimes;
 use order::order_passes;
-pub use split::SAMPLES_PER_DISPATCH;
+pub use split::{samples_per_dispatch, FLAT_SAMPLES_PER_DISPATCH, SAMPLES_PER_DISPATCH};
 use textures::assign_textures;
 use validate::validate;
 use versions::{assign_groups, assign_versions, check_output_written, writers_of};
@@ -168,7 +168,7 @@ pub fn compile(
         &edited
     };
     let split;
-    let desc = match split::split_sample_loops(desc, shaders)? {
+    let desc = match split::split_sample_loops(desc, shaders, features)? {
         Some(expanded) => {
             split = expanded;
             &split
