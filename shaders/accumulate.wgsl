@@ -164,11 +164,10 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> Histor
 // What `reprojected` gives when the camera has not moved, bit for bit:
 // motion is zero, so the one tap is this pixel's own texel with weight 1
 // (for finite G-buffer data; a NaN position has no motion to reproject).
-fn still_history(pixel: vec2u, g: vec4f) -> History {
+fn still_history(h: History, g: vec4f) -> History {
     let miss = g.w < 0.0;
     let cam = frame.prev_camera;
     let then_z = dot(select(g.xyz, cam.origin + g.xyz, miss) - cam.origin, cam.forward);
-    let h = load_history(vec2i(pixel));
     if then_z <= 0.0 || h.count == 0u {
         return History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
     }
@@ -188,14 +187,18 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let nw = textureLoad(gbuf_normal, id.xy);
     let n = nw.xyz;
     var history = History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
+    // This pixel's own history, which mode 0 and a still camera's mode 1
+    // both read: loaded once (a load in each branch ran twice, the two
+    // branches under their lane masks).
+    let own = load_history(vec2i(id.xy));
     if params.mode == 0u {
         if frame.accum_count > 0u {
-            history = load_history(vec2i(id.xy));
+            history = own;
             history.count = frame.accum_count;
         }
     } else if frame.epoch_frames > 0u {
         if CAMERA_STILL {
-            history = still_history(id.xy, g);
+            history = still_history(own, g);
         } else {
             history = reprojected(id.xy, g, n, nw.w > 0.0);
         }

@@ -34,11 +34,14 @@ struct PathState {
     // is weighted against NEE), or a negative value (camera / specular).
     bsdf_pdf: f32,
     prev_p: vec3f,
+    // What next-event estimation at prev_p gave as the pdf of the scene's
+    // one light (SCENE_ONE_LIGHT): light_pdf there, bit for bit.
+    light_pdf: f32,
     depth: u32,
 }
 
 fn new_path(ro: vec3f, rd: vec3f) -> PathState {
-    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0u);
+    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u);
 }
 
 // What a bounce leaves to trace: the next ray from `o` along the state's
@@ -64,21 +67,27 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     var out = ended_bounce();
     let depth = (*st).depth;
     let rd = (*st).rd;
+    // Loaded before the miss test (a miss has material 0): the G-buffer's
+    // specular share comes from the same two texels.
+    let m = load_material(hit.material);
     if depth == 0u {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-        path_primary_normal = select(vec4f(facing, material_specular(hit.material)), vec4f(0.0), !hit_found(hit));
+        path_primary_normal = select(vec4f(facing, m.specular), vec4f(0.0), !hit_found(hit));
     }
     if !hit_found(hit) {
         (*st).result += (*st).throughput * frame.background;
         return out;
     }
-    let m = load_material(hit.material);
     let p = hit.position;
     if is_emissive(m) && (depth > 0u || first_emission || hit.light < 0) {
         var w = 1.0;
         if hit.light >= 0 && (*st).bsdf_pdf > 0.0 {
-            w = power_heuristic((*st).bsdf_pdf, light_pdf(load_light(u32(hit.light)), (*st).prev_p));
+            var pdf = (*st).light_pdf;
+            if !SCENE_ONE_LIGHT {
+                pdf = light_pdf(load_light(u32(hit.light)), (*st).prev_p);
+            }
+            w = power_heuristic((*st).bsdf_pdf, pdf);
         }
         (*st).result += (*st).throughput * m.emission * w;
     }
@@ -113,6 +122,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         for (var i = 0u; i < light_count(); i++) {
             let l = load_light(i);
             let s = sample_light(l, o, rand2(rng));
+            (*st).light_pdf = s.pdf;
             let cos_n = dot(n, s.dir);
             if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 {
                 continue;
