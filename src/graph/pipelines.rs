@@ -177,7 +177,7 @@ impl PipelineCache {
                 Some(p) => Arc::clone(p),
                 None => {
                     built.push(sp.name.clone());
-                    Arc::new(create(device, sp, shader, &constants)?)
+                    Arc::new(create_guarded(device, sp, shader, &constants)?)
                 }
             };
             cache.entries.insert(k, Arc::clone(&p));
@@ -185,6 +185,55 @@ impl PipelineCache {
         }
         Ok(PipelineSet { per_pass, built, cache })
     }
+}
+
+/// `create`, with a panic in the shader compiler turned into an error that
+/// names the pass and its shader. naga validates some WGSL its SPIR-V
+/// writer then cannot handle and panics on (a pointer to a struct member
+/// passed to a function, `f(&s.field)`: "Expression [n] is not cached!"); a
+/// shader is user input, and a running viewer keeps its last good state.
+/// The error scope `create` pushed is popped as its guard unwinds.
+fn create_guarded(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
+    quiet_compiler_panics();
+    COMPILING.set(true);
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| create(device, sp, shader, constants)));
+    COMPILING.set(false);
+    match outcome {
+        Ok(result) => result,
+        Err(payload) => {
+            let what = payload.downcast_ref::<String>().map(String::as_str).or_else(|| payload.downcast_ref::<&str>().copied()).unwrap_or("a panic");
+            Err(UserError::new(format!(
+                "pass `{}` ({}): the shader compiler failed on this shader: {what} (naga is known to fail so on a pointer to a struct member passed to a function, `f(&s.field)`: pass a pointer to a whole variable)",
+                sp.name,
+                shader_location(sp, shader)
+            )))
+        }
+    }
+}
+
+thread_local! {
+    /// Whether this thread is inside `create_guarded`.
+    static COMPILING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Installs, once, a panic hook that stays silent for a panic inside
+/// `create_guarded` (its message becomes the error) and hands every other
+/// panic to the hook before it.
+fn quiet_compiler_panics() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let before = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !COMPILING.get() {
+                before(info);
+            }
+        }));
+    });
+}
+
+/// The shader's first file, or its name.
+fn shader_location(sp: &ScheduledPass, shader: &Shader) -> String {
+    shader.source.files.first().map(|f| f.display().to_string()).unwrap_or_else(|| sp.shader.clone())
 }
 
 fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
@@ -230,8 +279,7 @@ fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants:
         (make(&sp.entry, &c), sp.listed.as_deref().map(|e| make(e, &c)))
     });
     if let Some(e) = pollster::block_on(scope.pop()) {
-        let at = shader.source.files.first().map(|f| f.display().to_string()).unwrap_or_else(|| sp.shader.clone());
-        return Err(UserError::new(format!("pass `{}` ({at}): the GPU driver rejected the pipeline: {e}", sp.name)));
+        return Err(UserError::new(format!("pass `{}` ({}): the GPU driver rejected the pipeline: {e}", sp.name, shader_location(sp, shader))));
     }
     Ok(CachedPipeline { pipeline, listed, still, layouts })
 }
