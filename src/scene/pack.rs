@@ -171,7 +171,6 @@ impl Scene {
         (lo.x <= hi.x).then_some((lo, hi))
     }
 
-    /// Triangles over all mesh instances (quads count two).
     /// Spheres `pack` gives the GPU: sphere objects and sphere lights
     /// with a material (the ones rays can hit).
     pub fn sphere_count(&self) -> usize {
@@ -197,6 +196,7 @@ impl Scene {
         SceneFeatures { flat: self.is_flat(), ..self.features }
     }
 
+    /// Triangles over all mesh instances (quads count two).
     pub fn triangle_count(&self) -> usize {
         self.world
             .query::<&MeshShape>()
