@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{line_of, Location, UserError};
 use crate::scene::SceneFeatures;
 use crate::shader::{self, Shader, ShaderInfo};
-pub use compile::{compile, samples_per_dispatch, CompileError, CompileOptions, ErrorKind, FLAT_SAMPLES_PER_DISPATCH, SAMPLES_PER_DISPATCH};
+pub use compile::{compile, CompileError, CompileOptions, ErrorKind, FLAT_SAMPLES_PER_DISPATCH, SAMPLES_PER_DISPATCH};
 pub use desc::FrameGraph;
 pub use schedule::*;
 

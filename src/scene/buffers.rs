@@ -175,8 +175,10 @@ pub struct SceneBuffers {
     /// The flat scene seen from the camera and light 0, and each light's
     /// occluders (`origins`).
     pub origins: SceneTexture,
-    /// A flat scene's primitives as a uniform (`flat_uniform`).
+    /// A flat scene's primitives as a uniform (`flat_uniform`), and the
+    /// bytes last written to it.
     pub flat: wgpu::Buffer,
+    flat_bytes: Vec<u8>,
     origin_table: Vec<[u32; 4]>,
     /// Whether the occluder lists leave out the triangles that cannot
     /// shadow their light (tests turn it off to compare).
@@ -200,6 +202,7 @@ fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buf
 impl SceneBuffers {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, data: SceneData) -> SceneBuffers {
         let origin_table = origin_table(&data, &Viewpoints { camera: Vec3::ZERO, probes: None }, true);
+        let flat_bytes = flat_uniform(&data);
         SceneBuffers {
             spheres: SceneTexture::new(device, queue, "scene_spheres", &data.spheres),
             geometry: SceneTexture::from_bytes(device, queue, "scene_geometry", &geometry_bytes(&data)),
@@ -211,9 +214,10 @@ impl SceneBuffers {
             origins: SceneTexture::new(device, queue, "scene_origins", &origin_table),
             flat: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("scene_flat"),
-                contents: &flat_uniform(&data),
+                contents: &flat_bytes,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             }),
+            flat_bytes,
             origin_table,
             cull_occluders: true,
             data,
@@ -261,8 +265,9 @@ impl SceneBuffers {
         write_texture(queue, &self.instances, 0, &old.instances, &data.instances, &mut changed);
         changed |= old.background != data.background;
         let flat = flat_uniform(&data);
-        if flat != flat_uniform(old) {
+        if flat != self.flat_bytes {
             queue.write_buffer(&self.flat, 0, &flat);
+            self.flat_bytes = flat;
         }
         if changed {
             self.data = data;

@@ -32,7 +32,7 @@ use cull::{cull_by_requires, cull_unreachable};
 use emit::emit_schedule;
 use lifetimes::compute_lifetimes;
 use order::order_passes;
-pub use split::{samples_per_dispatch, FLAT_SAMPLES_PER_DISPATCH, SAMPLES_PER_DISPATCH};
+pub use split::{FLAT_SAMPLES_PER_DISPATCH, SAMPLES_PER_DISPATCH};
 use textures::assign_textures;
 use validate::validate;
 use versions::{assign_groups, assign_versions, check_output_written, writers_of};

@@ -46,7 +46,7 @@ pub const FLAT_SAMPLES_PER_DISPATCH: u32 = 32;
 const _: () = assert!(15 * 2 * FLAT_LIMIT as u32 * FLAT_SAMPLES_PER_DISPATCH < 65535);
 
 /// The samples one dispatch may take for a scene with these features.
-pub fn samples_per_dispatch(features: &SceneFeatures) -> u32 {
+fn samples_per_dispatch(features: &SceneFeatures) -> u32 {
     if features.flat {
         FLAT_SAMPLES_PER_DISPATCH
     } else {
@@ -84,8 +84,10 @@ pub(super) fn split_sample_loops(desc: &FrameGraph, shaders: &BTreeMap<String, S
             }
         };
         // As many texels as the graph asks, up to the budget: one
-        // invocation may not loop over more samples than drivers allow.
-        let texels = u64::from(pass.texels_per_invocation.unwrap_or(1).max(1)).min(budget);
+        // invocation may not loop over more samples than drivers allow
+        // (0 stays 0: validate names it).
+        let capped = pass.texels_per_invocation.map(|n| u64::from(n).min(budget) as u32);
+        let texels = u64::from(capped.unwrap_or(1).max(1));
         let shares = if texels == 1 {
             equal_shares(total)
         } else {
@@ -106,8 +108,7 @@ pub(super) fn split_sample_loops(desc: &FrameGraph, shaders: &BTreeMap<String, S
         let mut so_far = 0u64;
         for (k, &share) in shares.iter().enumerate() {
             let mut p = pass.clone();
-            // (0 stays 0: validate names it.)
-            p.texels_per_invocation = p.texels_per_invocation.map(|n| n.min(budget as u32));
+            p.texels_per_invocation = capped;
             p.params.insert(param.clone(), ParamValue::Int(share as i64));
             p.params.insert(done.clone(), ParamValue::Int(so_far as i64));
             if k > 0 {
