@@ -1,6 +1,7 @@
 // Ray throughput benchmark (`glint bench rays`): one primary ray per pixel
 // through the pixel centre, then per hit one shadow ray (toward a fixed
-// directional light) and one cosine-distributed diffuse ray.
+// directional light) and one cosine-distributed diffuse ray. The `query`
+// pass traces the primary rays again and keeps only their hit records.
 #import flat
 #import rng
 #import sampling
@@ -11,9 +12,26 @@
 @group(0) @binding(3) var normal_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(4) var bench_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(5) var out_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(6) var bench_query: texture_storage_2d<rgba32float, write>;
 
 const SUN: vec3f = vec3f(0.28734789, 0.95782629, 0.19156526);
 const INF: f32 = 3.0e38;
+
+// Query: the primary rays as a ray query alone, what Embree's
+// rtcIntersect1 gives (tools/embree): the hit record (distance, the
+// primitive's barycentrics, the primitive's id as bits), without the
+// surface point and normals `primary` makes of it. On a miss (-1, 0, 0, 0).
+// The same traversal as `primary` (trace_primary), so the same distances.
+@compute @workgroup_size(64, 1)
+fn query(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
+    let c = closest_primary(frame.camera.origin, rd, INF);
+    let found = c.prim != NO_HIT;
+    textureStore(bench_query, id.xy, select(vec4f(-1.0, 0.0, 0.0, 0.0), vec4f(c.t, c.uv, bitcast<f32>(c.prim)), found));
+}
 
 // Primary: xyz hit point, w distance along the unit direction (-1: miss).
 @compute @workgroup_size(64, 1)

@@ -36,6 +36,9 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             }
             // Distances (inf on a miss), occlusion and bounce distances.
             "bench_out" => *p = [p[0] / 8.0, p[1], p[2] / 8.0, 1.0],
+            // Hit records: distance / 8 and the barycentrics (the
+            // primitive's id, as bits in w, left out).
+            "bench_query" => *p = [p[0] / 8.0, p[1], p[2], 1.0],
             // Octahedral normal, distance / 8, sample count / frames.
             "accum_geo" => *p = [p[0] * 0.5 + 0.5, p[1] * 0.5 + 0.5, p[2] / 8.0, 1.0],
             // The sample count (a) over the frames rendered; the Kahan
@@ -169,8 +172,13 @@ fn golden_images_of_every_pass() {
         count += golden_graph(graph, scene, &mut failures);
     }
     count += golden_variant("irradiance.ron", "cornell.ron", "-ddgi", &["probes.mode=ddgi"], &mut failures);
-    // Debug views: passes that run only when their resource is the output.
-    for (graph, scene, variant, view) in [("irradiance.ron", "cornell.ron", "", "probe_view"), ("irradiance.ron", "cornell.ron", "-ddgi", "probe_view")] {
+    // Debug views: passes that run only when their resource is the output;
+    // and the bench's query pass, which nothing reads (`also_compute`).
+    for (graph, scene, variant, view) in [
+        ("irradiance.ron", "cornell.ron", "", "probe_view"),
+        ("irradiance.ron", "cornell.ron", "-ddgi", "probe_view"),
+        ("bench-rays.ron", "cornell.ron", "", "bench_query"),
+    ] {
         let Some(gpu) = gpu() else { break };
         let set: Vec<ParamSet> = if variant == "-ddgi" { vec!["probes.mode=ddgi".parse().unwrap_or_else(|e| panic!("{e}"))] } else { vec![] };
         let options = CompileOptions { output: Some(view.to_string()), edits: GraphEdits { set, ..Default::default() }, ..Default::default() };
@@ -180,7 +188,7 @@ fn golden_images_of_every_pass() {
         count += 1;
     }
     if gpu().is_some() {
-        assert!(count >= 89, "expected a golden per pass output, got {count}");
+        assert!(count >= 90, "expected a golden per pass output, got {count}");
     }
     assert!(failures.is_empty(), "golden mismatches:\n{}", failures.join("\n"));
 }

@@ -74,7 +74,7 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
     ];
     for (name, text, traversal) in cases {
         let scene = || text.as_deref().map_or_else(|| load_scene("moving-lights.ron"), scene_from);
-        for output in ["bench_hit", "bench_out"] {
+        for output in ["bench_hit", "bench_out", "bench_query"] {
             let bvh = bench_rays(gpu, scene(), size, output, traversal);
             let brute = bench_rays(gpu, scene(), size, output, Traversal::BruteForce);
             let differ = bvh.data.iter().zip(&brute.data).filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits)).count();
@@ -84,6 +84,47 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
                 assert!(hits > bvh.data.len() / 10, "{name}: only {hits} primary hits; the test would prove little");
             }
         }
+    }
+}
+
+/// The bench's `query` pass (the hit records alone) traces the same rays
+/// as its `primary` pass: the same distances, bit for bit, and the same
+/// misses; and its primitive ids name triangles that exist. Through the
+/// BVH (one mesh and a scene with spheres) and on a flat scene.
+#[test]
+fn the_query_pass_finds_what_the_primary_pass_finds() {
+    let Some(gpu) = gpu() else { return };
+    let dir = scratch("query-vs-primary");
+    let obj = dir.join("soup.obj");
+    std::fs::write(&obj, random_soup(2000, 11)).expect("write soup");
+    let soup = format!(
+        r#"Scene(
+            camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
+            materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
+            objects: [ Mesh(path: "{}", material: "grey") ],
+        )"#,
+        obj.display()
+    );
+    for name in ["soup", "moving-lights", "cornell"] {
+        let scene = || if name == "soup" { scene_from(&soup) } else { load_scene(&format!("{name}.ron")) };
+        let size = (64, 48);
+        let hit = bench_rays(gpu, scene(), size, "bench_hit", Traversal::Engine);
+        let query = bench_rays(gpu, scene(), size, "bench_query", Traversal::Engine);
+        let triangles = scene().triangle_count() as u32;
+        let mut hits = 0;
+        for (k, (h, q)) in hit.data.iter().zip(&query.data).enumerate() {
+            assert_eq!(h[3].to_bits(), q[0].to_bits(), "{name}: pixel {k}: primary's distance {} against the query's {}", h[3], q[0]);
+            if q[0] > 0.0 {
+                hits += 1;
+                let prim = q[3].to_bits();
+                let is_sphere = prim & 0x8000_0000 != 0;
+                assert!(is_sphere || prim < triangles, "{name}: pixel {k}: primitive {prim:#x} of {triangles} triangles");
+                assert!(q[1] >= 0.0 && q[2] >= 0.0 && q[1] + q[2] <= 1.0 + 1e-6 || is_sphere, "{name}: pixel {k}: barycentrics {:?}", &q[1..3]);
+            } else {
+                assert_eq!(*q, [-1.0, 0.0, 0.0, 0.0], "{name}: pixel {k}: a miss");
+            }
+        }
+        assert!(hits > hit.data.len() / 10, "{name}: only {hits} hits; the test would prove little");
     }
 }
 

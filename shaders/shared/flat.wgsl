@@ -91,15 +91,21 @@ fn flat_sweep(r: Ray, tmax: f32) -> Closest {
 // origins.wgsl): flat scenes then take the written-out sweep above, which
 // costs more than the loop anywhere else. The same hits, bit for bit.
 fn trace_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
+    return closest_hit(closest_primary(ro, rd, tmax), ro, rd, tmax);
+}
+
+// trace_primary's ray query alone: the closest primitive, its distance
+// and barycentrics.
+fn closest_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Closest {
+    let r = make_ray(ro, rd);
     if BRUTE_FORCE || !FLAT_SCENE {
-        return trace_closest(ro, rd, tmax);
+        return traverse(r, tmax, false);
     }
     // No branch around the sweep: an untraceable ray sweeps too (it hits
     // nothing there; a zero direction's tests give NaN) and is then a miss.
-    let r = make_ray(ro, rd);
     let c = flat_sweep(r, tmax);
     let ok = traceable(r);
-    return closest_hit(Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv), ro, rd, tmax);
+    return Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv);
 }
 
 // A ray's closest hit and a shadow ray's verdict, traced together.

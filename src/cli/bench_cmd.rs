@@ -1,5 +1,9 @@
 //! `glint bench rays`: BVH build speed and primary/shadow/diffuse ray
 //! throughput on a mesh, through the engine's own graph and traversal.
+//! The primary rays are timed twice: as a bare ray query (`query`: the hit
+//! records alone, the work Embree's rtcIntersect1 does, tools/embree) and
+//! as the pass the other rays start from (`primary`: also the surface
+//! points and normals).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -119,7 +123,7 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     let graph_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/bench-rays.ron");
     let graph_path = if Path::new("passes/bench-rays.ron").is_file() { PathBuf::from("passes/bench-rays.ron") } else { graph_path };
     let shader_dir = graph::shader_dir_for(&graph_path);
-    let options = CompileOptions { keep: vec!["bench_normal".into()], ..CompileOptions::default() };
+    let options = CompileOptions { keep: vec!["bench_normal".into()], also_compute: vec!["bench_query".into()], ..CompileOptions::default() };
     let mut compiled = graph::load_and_compile(&graph_path, &shader_dir, &scene.compile_features(), &options)?;
     if args.trips {
         for pass in compiled.schedule.passes.iter_mut().filter(|p| p.name == "primary") {
@@ -153,12 +157,16 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     // Warm up (pipeline compilation, first-touch), then time each pass.
     session.timing = Timing::WallPerPass;
     session.frame(0.0);
-    let mut wall: Vec<Vec<f64>> = vec![Vec::new(); 3];
-    let mut stamps: Vec<Vec<f64>> = vec![Vec::new(); 3];
+    let names = ["query", "primary", "shadow", "diffuse"];
+    let mut wall: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+    let mut stamps: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+    // By name: a graph edited to have other passes times only these.
     let record = |into: &mut Vec<Vec<f64>>, timings: Vec<crate::graph::executor::PassTimings>| {
         for t in timings {
-            for (w, (_, m)) in into.iter_mut().zip(t.passes) {
-                w.push(m);
+            for (name, m) in t.passes {
+                if let Some(i) = names.iter().position(|n| *n == name) {
+                    into[i].push(m);
+                }
             }
         }
     };
@@ -178,9 +186,11 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     let hits = out.data.iter().filter(|p| p[0].is_finite()).count() as f64;
     out!("primary_rays={pixels}");
     out!("secondary_rays_each={hits}");
-    let names = ["primary", "shadow", "diffuse"];
-    let counts = [pixels, hits, hits];
-    for i in 0..3 {
+    let counts = [pixels, pixels, hits, hits];
+    for i in 0..names.len() {
+        if wall[i].is_empty() {
+            continue;
+        }
         let w = median(&wall[i]);
         out!("{}_ms_wall={w:.3}", names[i]);
         out!("{}_mrays_per_s_wall={:.2}", names[i], counts[i] / (w * 1e3));

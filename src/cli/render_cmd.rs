@@ -141,6 +141,7 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
         keep: vec![REFLECT_REUSE.to_string()],
         no_specialise: args.edits.no_specialise,
         no_cull: args.edits.no_cull,
+        ..CompileOptions::default()
     };
     let mut frames = FrameLoop::new(args.time, Clock::Fixed { dt: args.dt }, scene.camera);
     frames.camera_path = camera_path;

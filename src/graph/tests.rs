@@ -638,6 +638,35 @@ fn culled_when_unreachable() {
     assert_eq!(s.textures.len(), 2);
 }
 
+/// `also_compute` keeps a pass that no output reads, and the passes it
+/// reads from, with its resource alive to the frame's end; a name the graph
+/// does not declare changes nothing.
+#[test]
+fn also_compute_keeps_what_no_output_reads() {
+    let g = graph(
+        &f16(&["x", "dbg", "dbg2", "out"]),
+        r#"Pass(name: "a", shader: "gen.wgsl", bind: { dst: "x" }),
+           Pass(name: "debug", shader: "filter.wgsl", bind: { src: "x", dst: "dbg" }),
+           Pass(name: "debug2", shader: "filter.wgsl", bind: { src: "dbg", dst: "dbg2" }),
+           Pass(name: "b", shader: "filter.wgsl", bind: { src: "x", dst: "out" }),"#,
+        "out",
+    );
+    let shaders: BTreeMap<String, ShaderInfo> = kit().into_iter().map(|s| (s.name.clone(), s)).collect();
+    let with = |also: &[&str]| {
+        let options = CompileOptions { also_compute: also.iter().map(|s| s.to_string()).collect(), ..Default::default() };
+        compile(&g, &shaders, &SceneFeatures::all(), &options).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let s = with(&["dbg2", "nothing"]);
+    let mut passes = order(&s);
+    passes.sort();
+    assert_eq!(passes, ["a", "b", "debug", "debug2"]);
+    assert!(s.culled.is_empty());
+    assert!(s.kept.iter().any(|k| k == "dbg2"));
+    assert!(!s.kept.iter().any(|k| k == "nothing"));
+    let s = with(&["dbg"]);
+    assert_eq!(s.culled, [culled("debug2", CullReason::Unreachable)]);
+}
+
 #[test]
 fn output_option_overrides_the_output() {
     let g = graph(

@@ -1,5 +1,6 @@
 //! Steps 2 and 3: cull passes whose `requires` the scene lacks, then
-//! passes that reach neither the output nor a history write.
+//! passes that reach neither the output nor a history write (nor a
+//! resource the options ask for, `CompileOptions::also_compute`).
 
 use super::versions::{is_history, Versions};
 use super::PassPlan;
@@ -35,10 +36,11 @@ pub(super) fn cull_unreachable<'a>(
     plans: Vec<PassPlan<'a>>,
     vs: &mut Versions,
     output: &str,
+    also: &[String],
 ) -> (Vec<PassPlan<'a>>, Vec<CulledPass>) {
     let mut roots: Vec<usize> = Vec::new();
     for r in desc.resources.keys() {
-        if r == output || is_history(desc, r) {
+        if r == output || is_history(desc, r) || also.contains(r) {
             if let Some(v) = vs.latest(r) {
                 roots.push(v);
             }

@@ -107,6 +107,9 @@ pub struct CompileOptions {
     /// ends, so the engine can read it back for stats. Absent or unwritten
     /// ones are ignored.
     pub keep: Vec<String>,
+    /// Resources computed even where the output does not need them (a
+    /// benchmark timing a pass of its own), and kept as `keep` keeps them.
+    pub also_compute: Vec<String>,
     /// Leave every shader generic: no override constants from the scene's
     /// features (`--no-specialise`; see scene::specialise).
     pub no_specialise: bool,
@@ -197,13 +200,13 @@ pub fn compile(
     let (plans, mut culled) = cull_by_requires(plans, &cull_for, desc.probes.map(|p| p.mode));
     let mut versions = assign_versions(desc, &plans, &writers, &culled)?;
     check_output_written(&writers, &versions, &culled, &output)?;
-    let (plans, unreachable) = cull_unreachable(desc, plans, &mut versions, &output);
+    let (plans, unreachable) = cull_unreachable(desc, plans, &mut versions, &output, &options.also_compute);
     culled.extend(unreachable);
     culled.sort_by_key(|c| desc.passes.iter().position(|p| p.name == c.name));
     let groups = assign_groups(desc, &mut versions);
     let order = order_passes(&plans, &versions, &groups)?;
     let mut kept: Vec<&str> = vec![output.as_str()];
-    kept.extend(options.keep.iter().map(String::as_str).filter(|r| versions.latest(r).is_some()));
+    kept.extend(options.keep.iter().chain(&options.also_compute).map(String::as_str).filter(|r| versions.latest(r).is_some()));
     let lifetimes = compute_lifetimes(&order, &mut versions, &groups, &kept);
     let (textures, group_refs) = assign_textures(desc, &versions, &groups, &lifetimes);
     let mut schedule = emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output);
