@@ -93,8 +93,13 @@ impl Gpu {
         })
     }
 
+    /// The adapter, its kind and backend, and the driver's own version
+    /// where it gives one (lavapipe: the Mesa release, which the adapter's
+    /// name leaves out).
     pub fn describe(&self) -> String {
-        format!("{} ({:?}, {:?})", self.info.name, self.info.device_type, self.info.backend)
+        let driver = self.info.driver_info.trim();
+        let driver = if driver.is_empty() { String::new() } else { format!(", {driver}") };
+        format!("{} ({:?}, {:?}{driver})", self.info.name, self.info.device_type, self.info.backend)
     }
 
     /// Largest 2D texture side this device takes.
