@@ -19,9 +19,11 @@ const INF: f32 = 3.0e38;
 
 // Query: the primary rays as a ray query alone, what Embree's
 // rtcIntersect1 gives (tools/embree): the hit record (distance, the
-// primitive's barycentrics, the primitive's id as bits), without the
-// surface point and normals `primary` makes of it. On a miss (-1, 0, 0, 0).
-// The same traversal as `primary` (trace_primary), so the same distances.
+// triangle's barycentrics, the primitive), without the surface point and
+// normals `primary` makes of it. The primitive as a number, not as bits
+// (a driver may flush the denormals small ids would be): triangle i as i
+// (exact below 2^24), sphere i as -1 - i. On a miss (-1, 0, 0, 0). The
+// same traversal as `primary` (trace_primary), so the same distances.
 @compute @workgroup_size(64, 1)
 fn query(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
@@ -30,7 +32,9 @@ fn query(@builtin(global_invocation_id) id: vec3u) {
     let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
     let c = closest_primary(frame.camera.origin, rd, INF);
     let found = c.prim != NO_HIT;
-    textureStore(bench_query, id.xy, select(vec4f(-1.0, 0.0, 0.0, 0.0), vec4f(c.t, c.uv, bitcast<f32>(c.prim)), found));
+    let sphere = (c.prim & SPHERE_BIT) != 0u;
+    let prim = select(f32(c.prim), -1.0 - f32(c.prim & ~SPHERE_BIT), sphere);
+    textureStore(bench_query, id.xy, select(vec4f(-1.0, 0.0, 0.0, 0.0), vec4f(c.t, c.uv, prim), found));
 }
 
 // Primary: xyz hit point, w distance along the unit direction (-1: miss).

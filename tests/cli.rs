@@ -303,4 +303,11 @@ fn bench_rays_counts_traversal_trips() {
     assert!(node > 1.0 && tri > 0.0, "node {node}, triangle {tri}");
     assert!((node + tri - all).abs() < 2e-3 && group >= all, "per ray {all}, busiest lane {group}");
     assert_eq!(trips("0,0,5,0,0,0,45", false), (None, None, None, None));
+    // Every pass is timed, the query pass too (no output reads it: the
+    // bench keeps it with `also_compute`).
+    let (code, out, err) = glint(&["bench", "rays", "--obj", "scenes/meshes/knot.obj", "--size", "32x16", "--camera", "0,0,5,0,0,0,45", "--runs", "1"]);
+    assert_eq!(code, 0, "{err}");
+    for pass in ["query", "primary", "shadow", "diffuse"] {
+        assert!(out.lines().any(|l| l.starts_with(&format!("{pass}_ms_wall="))), "no {pass}_ms_wall in:\n{out}");
+    }
 }

@@ -37,7 +37,7 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             // Distances (inf on a miss), occlusion and bounce distances.
             "bench_out" => *p = [p[0] / 8.0, p[1], p[2] / 8.0, 1.0],
             // Hit records: distance / 8 and the barycentrics (the
-            // primitive's id, as bits in w, left out).
+            // primitive in w left out).
             "bench_query" => *p = [p[0] / 8.0, p[1], p[2], 1.0],
             // Octahedral normal, distance / 8, sample count / frames.
             "accum_geo" => *p = [p[0] * 0.5 + 0.5, p[1] * 0.5 + 0.5, p[2] / 8.0, 1.0],
@@ -173,7 +173,8 @@ fn golden_images_of_every_pass() {
     }
     count += golden_variant("irradiance.ron", "cornell.ron", "-ddgi", &["probes.mode=ddgi"], &mut failures);
     // Debug views: passes that run only when their resource is the output;
-    // and the bench's query pass, which nothing reads (`also_compute`).
+    // and the bench's query pass, which nothing in its graph reads (the
+    // bench keeps it with `also_compute`).
     for (graph, scene, variant, view) in [
         ("irradiance.ron", "cornell.ron", "", "probe_view"),
         ("irradiance.ron", "cornell.ron", "-ddgi", "probe_view"),

@@ -89,8 +89,11 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
 
 /// The bench's `query` pass (the hit records alone) traces the same rays
 /// as its `primary` pass: the same distances, bit for bit, and the same
-/// misses; and its primitive ids name triangles that exist. Through the
-/// BVH (one mesh and a scene with spheres) and on a flat scene.
+/// misses; and its record names the primitive hit: the triangle's point
+/// at the record's barycentrics (the triangles as the GPU holds them, in
+/// BVH leaf order) is primary's hit point, and a sphere's surface holds
+/// it. Through the BVH (one mesh and a scene with spheres) and on a flat
+/// scene.
 #[test]
 fn the_query_pass_finds_what_the_primary_pass_finds() {
     let Some(gpu) = gpu() else { return };
@@ -105,26 +108,43 @@ fn the_query_pass_finds_what_the_primary_pass_finds() {
         )"#,
         obj.display()
     );
+    let options = glint::graph::CompileOptions { also_compute: vec!["bench_query".into()], keep: vec!["bench_hit".into()], ..Default::default() };
     for name in ["soup", "moving-lights", "cornell"] {
-        let scene = || if name == "soup" { scene_from(&soup) } else { load_scene(&format!("{name}.ron")) };
-        let size = (64, 48);
-        let hit = bench_rays(gpu, scene(), size, "bench_hit", Traversal::Engine);
-        let query = bench_rays(gpu, scene(), size, "bench_query", Traversal::Engine);
-        let triangles = scene().triangle_count() as u32;
-        let mut hits = 0;
+        let scene = if name == "soup" { scene_from(&soup) } else { load_scene(&format!("{name}.ron")) };
+        let compiled = compile(&scene, &repo().join("passes/bench-rays.ron"), &options);
+        let mut s = session(gpu, scene, &compiled, (64, 48), 1);
+        s.frame(0.0);
+        let read = |r: &str| s.read_resource(r).unwrap_or_else(|| panic!("{name}: no {r}")).unwrap_or_else(|e| panic!("{e}"));
+        let (hit, query) = (read("bench_hit"), read("bench_query"));
+        let data = &s.scene.buffers.data;
+        let (mut triangles, mut spheres) = (0, 0);
         for (k, (h, q)) in hit.data.iter().zip(&query.data).enumerate() {
             assert_eq!(h[3].to_bits(), q[0].to_bits(), "{name}: pixel {k}: primary's distance {} against the query's {}", h[3], q[0]);
-            if q[0] > 0.0 {
-                hits += 1;
-                let prim = q[3].to_bits();
-                let is_sphere = prim & 0x8000_0000 != 0;
-                assert!(is_sphere || prim < triangles, "{name}: pixel {k}: primitive {prim:#x} of {triangles} triangles");
-                assert!(q[1] >= 0.0 && q[2] >= 0.0 && q[1] + q[2] <= 1.0 + 1e-6 || is_sphere, "{name}: pixel {k}: barycentrics {:?}", &q[1..3]);
-            } else {
+            if q[0] <= 0.0 {
                 assert_eq!(*q, [-1.0, 0.0, 0.0, 0.0], "{name}: pixel {k}: a miss");
+                continue;
+            }
+            let p = glam::Vec3::new(h[0], h[1], h[2]);
+            let tol = 1e-5 * (1.0 + p.abs().max_element());
+            assert_eq!(q[3].fract(), 0.0, "{name}: pixel {k}: primitive {}", q[3]);
+            if q[3] >= 0.0 {
+                let t = data.triangles.get(q[3] as usize).unwrap_or_else(|| panic!("{name}: pixel {k}: triangle {} of {}", q[3], data.triangles.len()));
+                let (u, v) = (q[1], q[2]);
+                let at = (1.0 - u - v) * glam::Vec3::from(t.p0) + u * glam::Vec3::from(t.p1) + v * glam::Vec3::from(t.p2);
+                assert!(at.distance(p) <= tol, "{name}: pixel {k}: triangle {} at ({u}, {v}) is {at}, primary hit {p}", q[3]);
+                triangles += 1;
+            } else {
+                let i = (-1.0 - q[3]) as usize;
+                let sp = data.spheres.get(i).unwrap_or_else(|| panic!("{name}: pixel {k}: sphere {i} of {}", data.spheres.len()));
+                let off = p.distance(glam::Vec3::from(sp.center)) - sp.radius;
+                assert!(off.abs() <= tol * (1.0 + sp.radius), "{name}: pixel {k}: sphere {i}'s surface is {off} from primary's hit {p}");
+                spheres += 1;
             }
         }
-        assert!(hits > hit.data.len() / 10, "{name}: only {hits} hits; the test would prove little");
+        assert!(triangles + spheres > hit.data.len() / 10, "{name}: only {triangles} + {spheres} hits; the test would prove little");
+        if name == "moving-lights" {
+            assert!(triangles > 0 && spheres > 0, "{name}: {triangles} triangle and {spheres} sphere hits; both kinds should be checked");
+        }
     }
 }
 

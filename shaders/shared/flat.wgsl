@@ -7,7 +7,8 @@
 // more than the loop (lights_point 54-77 against 38 ms): there every
 // value the straight code computes is written under the lane mask, and a
 // loop's last, fully masked trip runs all of it again. So only
-// trace_primary (below) and origins.wgsl take it with texel loads;
+// trace_primary and closest_primary (below) and origins.wgsl take it with
+// texel loads;
 // trace_pair, inside the path tracer's bounce loop, writes its sweep out
 // from the scene_flat uniform instead, whose constant-offset loads are one
 // broadcast load each (see trace_pair).

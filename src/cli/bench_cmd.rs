@@ -186,6 +186,7 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     let hits = out.data.iter().filter(|p| p[0].is_finite()).count() as f64;
     out!("primary_rays={pixels}");
     out!("secondary_rays_each={hits}");
+    // Rays each pass traces, in the order of `names`.
     let counts = [pixels, pixels, hits, hits];
     for i in 0..names.len() {
         if wall[i].is_empty() {

@@ -639,8 +639,9 @@ fn culled_when_unreachable() {
 }
 
 /// `also_compute` keeps a pass that no output reads, and the passes it
-/// reads from, with its resource alive to the frame's end; a name the graph
-/// does not declare changes nothing.
+/// reads from, and lists its resource among the kept ones (which
+/// `lifetimes` holds to the frame's end); a name the graph does not
+/// declare changes nothing.
 #[test]
 fn also_compute_keeps_what_no_output_reads() {
     let g = graph(

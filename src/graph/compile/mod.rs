@@ -206,7 +206,11 @@ pub fn compile(
     let groups = assign_groups(desc, &mut versions);
     let order = order_passes(&plans, &versions, &groups)?;
     let mut kept: Vec<&str> = vec![output.as_str()];
-    kept.extend(options.keep.iter().chain(&options.also_compute).map(String::as_str).filter(|r| versions.latest(r).is_some()));
+    for r in options.keep.iter().chain(&options.also_compute) {
+        if versions.latest(r).is_some() && !kept.contains(&r.as_str()) {
+            kept.push(r);
+        }
+    }
     let lifetimes = compute_lifetimes(&order, &mut versions, &groups, &kept);
     let (textures, group_refs) = assign_textures(desc, &versions, &groups, &lifetimes);
     let mut schedule = emit_schedule(desc, features, &plans, &order, &versions, &groups, &group_refs, textures, culled, &output);
