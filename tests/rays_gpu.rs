@@ -52,16 +52,7 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
     let dir = scratch("bvh-vs-brute");
     let obj = dir.join("soup.obj");
     std::fs::write(&obj, random_soup(3000, 7)).expect("write soup");
-    let soup_with = |spheres: &str| {
-        format!(
-            r#"Scene(
-                camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
-                materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
-                objects: [ Mesh(path: "{}", material: "grey"), {spheres} ],
-            )"#,
-            obj.display()
-        )
-    };
+    let soup_with = |spheres: &str| soup_scene(&obj, spheres);
     let spheres = r#"Sphere(center: (0.2, 0.1, 0.3), radius: 0.25, material: "grey"),
                      Sphere(center: (-0.4, -0.3, -0.2), radius: 0.3, material: "grey")"#;
     let size = (96, 96);
@@ -100,14 +91,7 @@ fn the_query_pass_finds_what_the_primary_pass_finds() {
     let dir = scratch("query-vs-primary");
     let obj = dir.join("soup.obj");
     std::fs::write(&obj, random_soup(2000, 11)).expect("write soup");
-    let soup = format!(
-        r#"Scene(
-            camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
-            materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
-            objects: [ Mesh(path: "{}", material: "grey") ],
-        )"#,
-        obj.display()
-    );
+    let soup = soup_scene(&obj, "");
     let options = glint::graph::CompileOptions { also_compute: vec!["bench_query".into()], keep: vec!["bench_hit".into()], ..Default::default() };
     for name in ["soup", "moving-lights", "cornell"] {
         let scene = if name == "soup" { scene_from(&soup) } else { load_scene(&format!("{name}.ron")) };
@@ -169,6 +153,19 @@ fn bench_rays(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, size: (u32, u32
         pass.constants.extend(constant.map(|(k, v)| (k.to_string(), v)));
     }
     render_compiled(gpu, scene, &compiled, size, 1)
+}
+
+/// A scene of the OBJ `obj` in grey, seen from (0.3, 0.2, 3), with the
+/// objects `more` (RON, may be empty) beside it.
+fn soup_scene(obj: &std::path::Path, more: &str) -> String {
+    format!(
+        r#"Scene(
+            camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
+            materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
+            objects: [ Mesh(path: "{}", material: "grey"), {more} ],
+        )"#,
+        obj.display()
+    )
 }
 
 /// `n` random triangles (some long and thin) in [-1, 1]^3 as OBJ text.

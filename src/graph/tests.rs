@@ -613,17 +613,17 @@ fn culled_by_requires_then_readers_see_the_previous_version() {
     assert!(s.versions.iter().all(|v| v.resource != "lit" || v.version == 1));
 }
 
-#[test]
-fn culled_when_unreachable() {
-    let g = graph(
-        &f16(&["x", "dbg", "dbg2", "out"]),
-        r#"Pass(name: "a", shader: "gen.wgsl", bind: { dst: "x" }),
+/// x feeds the output `out` and a debug chain dbg -> dbg2 nothing reads.
+const DEBUG_CHAIN: &str = r#"Pass(name: "a", shader: "gen.wgsl", bind: { dst: "x" }),
            Pass(name: "debug", shader: "filter.wgsl", bind: { src: "x", dst: "dbg" }),
            Pass(name: "debug2", shader: "filter.wgsl", bind: { src: "dbg", dst: "dbg2" }),
-           Pass(name: "b", shader: "filter.wgsl", bind: { src: "x", dst: "out" }),
-           Pass(name: "spec", shader: "gen.wgsl", requires: [Specular], bind: { dst: "dbg2" }),"#,
-        "out",
-    );
+           Pass(name: "b", shader: "filter.wgsl", bind: { src: "x", dst: "out" }),"#;
+
+#[test]
+fn culled_when_unreachable() {
+    let passes = format!(r#"{DEBUG_CHAIN}
+           Pass(name: "spec", shader: "gen.wgsl", requires: [Specular], bind: {{ dst: "dbg2" }}),"#);
+    let g = graph(&f16(&["x", "dbg", "dbg2", "out"]), &passes, "out");
     let s = build(&g, &[], SceneFeatures::default(), None).unwrap();
     assert_eq!(order(&s), ["a", "b"]);
     assert_eq!(
@@ -644,14 +644,7 @@ fn culled_when_unreachable() {
 /// declare changes nothing.
 #[test]
 fn also_compute_keeps_what_no_output_reads() {
-    let g = graph(
-        &f16(&["x", "dbg", "dbg2", "out"]),
-        r#"Pass(name: "a", shader: "gen.wgsl", bind: { dst: "x" }),
-           Pass(name: "debug", shader: "filter.wgsl", bind: { src: "x", dst: "dbg" }),
-           Pass(name: "debug2", shader: "filter.wgsl", bind: { src: "dbg", dst: "dbg2" }),
-           Pass(name: "b", shader: "filter.wgsl", bind: { src: "x", dst: "out" }),"#,
-        "out",
-    );
+    let g = graph(&f16(&["x", "dbg", "dbg2", "out"]), DEBUG_CHAIN, "out");
     let shaders: BTreeMap<String, ShaderInfo> = kit().into_iter().map(|s| (s.name.clone(), s)).collect();
     let with = |also: &[&str]| {
         let options = CompileOptions { also_compute: also.iter().map(|s| s.to_string()).collect(), ..Default::default() };
