@@ -5,6 +5,7 @@
 #import flat
 #import rng
 #import sampling
+#import tile_pool
 
 @group(0) @binding(0) var bench_hit: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(1) var bench_normal: texture_storage_2d<rgba32float, write>;
@@ -25,24 +26,47 @@ const INF: f32 = 3.0e38;
 // (exact below 2^24), sphere i as -1 - i. On a miss (-1, 0, 0, 0). The
 // same traversal as `primary` (trace_primary), so the same distances.
 @compute @workgroup_size(64, 1)
-fn query(@builtin(global_invocation_id) id: vec3u) {
-    if !in_frame(id) {
-        return;
+fn query() {
+    var cursor = PoolCursor();
+    loop {
+        let id = pool_next(&cursor);
+        if id.z != 0u {
+            break;
+        }
+        if in_frame(id) {
+            query_texel(id.xy);
+        }
     }
+}
+
+fn query_texel(id: vec2u) {
     let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
     let c = closest_primary(frame.camera.origin, rd, INF);
     let found = c.prim != NO_HIT;
     let sphere = (c.prim & SPHERE_BIT) != 0u;
     let prim = select(f32(c.prim), -1.0 - f32(c.prim & ~SPHERE_BIT), sphere);
-    textureStore(bench_query, id.xy, select(vec4f(-1.0, 0.0, 0.0, 0.0), vec4f(c.t, c.uv, prim), found));
+    textureStore(bench_query, id, select(vec4f(-1.0, 0.0, 0.0, 0.0), vec4f(c.t, c.uv, prim), found));
 }
 
 // Primary: xyz hit point, w distance along the unit direction (-1: miss).
 @compute @workgroup_size(64, 1)
-fn primary(@builtin(global_invocation_id) id: vec3u) {
-    if !in_frame(id) {
-        return;
+fn primary() {
+    var cursor = PoolCursor();
+    loop {
+        let id = pool_next(&cursor);
+        if id.z != 0u {
+            break;
+        }
+        if in_frame(id) {
+            primary_texel(id.xy);
+        }
     }
+}
+
+fn primary_texel(id: vec2u) {
+    // The counts are the ray's own: an invocation traces many texels.
+    trips_node = 0u;
+    trips_triangle = 0u;
     let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
     let hit = trace_primary(frame.camera.origin, rd, INF);
     let found = hit_found(hit);

@@ -5,6 +5,7 @@
 // A NaN/Inf/zero ray fails every box test and ends as a miss.
 // Mirrored in Rust by src/bvh/ray.rs.
 #import bvh
+#import loop_budget
 
 const NO_HIT: u32 = NO_OBJECT;
 const SPHERE_BIT: u32 = 0x80000000u;
@@ -233,6 +234,7 @@ fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     if SCENE_SPHERES && frame.n_spheres > 0u {
         var i = 0u;
         loop {
+            loop_trips += 1u;
             if test_sphere(r, i, tmax, any_hit, &best) {
                 return best;
             }
@@ -268,6 +270,7 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
     }
     var i = first;
     loop {
+        loop_trips += 1u;
         let tri = load_triangle(i);
         let h = hit_triangle(r, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up((*best).t));
         if h.x > 0.0 && h.x < tmax && closer(h.x, i, *best) {
@@ -338,6 +341,7 @@ fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function
         // it tests each lane's mask and keeps the old value lane by lane
         // too (primary rays 0.96x the time on the knot and Sponza, 0.97x
         // on the dragon, alternated; identical hits).
+        loop_trips += 1u;
         let top = stack[max(sp, 1u) - 1u];
         if !have_current && tri >= tri_end && sp > 0u {
             sp -= 1u;
@@ -440,6 +444,7 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     var current = 0u;
     var sp = 0u;
     for (var steps = 0u; steps < MAX_STEPS; steps++) {
+        loop_trips += 1u;
         var next = false;
         let node = load_node(current);
         if (node_count(node) & TLAS_LEAF) != 0u {

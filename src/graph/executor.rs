@@ -21,6 +21,7 @@ use crate::graph::pipelines::{wgpu_format, CachedPipeline};
 use crate::graph::desc::RunMode;
 use crate::graph::runs::{RunGpu, RunState, RUN_BYTES};
 use crate::graph::schedule::*;
+use crate::graph::tile_pool;
 
 /// How a frame is timed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -77,6 +78,8 @@ struct PassGpu {
     run: Option<wgpu::Buffer>,
     /// The work list of a pass with a `listed` entry.
     work_list: Option<WorkList>,
+    /// The tile pool, for passes that bind one.
+    tile_pool: Option<tile_pool::PassPool>,
 }
 
 /// A pass's work list (Target::WorkList) and its indirect dispatch.
@@ -106,6 +109,8 @@ pub struct Executor {
     pub size: (u32, u32),
     textures: Vec<Physical>,
     passes: Vec<PassGpu>,
+    /// Sizes the second dispatch of passes with a tile pool (one for all).
+    pool_fixup: Option<tile_pool::Fixup>,
     timer: Option<PassTimer>,
     parity: u8,
     frame: u64,
@@ -219,6 +224,7 @@ impl Executor {
         }
 
         let mut passes = Vec::new();
+        let mut pool_fixup = None;
         for (sp, pipeline) in schedule.passes.iter().zip(pipelines) {
             let params = sp.params.as_ref().map(|p| {
                 let buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -259,6 +265,11 @@ impl Executor {
                 });
                 WorkList { list, args }
             });
+            let tile_pool = sp.bindings.iter().any(|b| b.target == Target::TilePool).then(|| {
+                let fixup = pool_fixup.get_or_insert_with(|| tile_pool::Fixup::new(device));
+                let per_group = sp.workgroup_size.iter().product::<u32>();
+                tile_pool::PassPool::new(device, &gpu.queue, fixup, &sp.name, size, per_group)
+            });
             let make_groups = |parity: u8| -> Result<Vec<(u32, wgpu::BindGroup)>, UserError> {
                 let mut groups = Vec::new();
                 for (g, layout) in &pipeline.layouts {
@@ -279,6 +290,10 @@ impl Executor {
                                 Some(l) => l.list.as_entire_binding(),
                                 None => return Err(UserError::new(format!("pass `{}`: `work_list` has no buffer", sp.name))),
                             },
+                            Target::TilePool => match &tile_pool {
+                                Some(pool) => pool.buffer.as_entire_binding(),
+                                None => return Err(UserError::new(format!("pass `{}`: `tile_pool` has no buffer", sp.name))),
+                            },
                         };
                         entries.push(wgpu::BindGroupEntry { binding: b.binding, resource });
                     }
@@ -287,16 +302,23 @@ impl Executor {
                 Ok(groups)
             };
             let bind_groups = [make_groups(0)?, make_groups(1)?];
-            let (w, h) = sp.dispatch.resolve(size);
-            let w = w.div_ceil(sp.texels_per_invocation.max(1));
-            let wg = sp.workgroup_size;
+            let workgroups = match tile_pool {
+                Some(_) => tile_pool::workgroups(gpu.info.device_type, sp.workgroup_size, size),
+                None => {
+                    let (w, h) = sp.dispatch.resolve(size);
+                    let w = w.div_ceil(sp.texels_per_invocation.max(1));
+                    let wg = sp.workgroup_size;
+                    [w.div_ceil(wg[0].max(1)), h.div_ceil(wg[1].max(1)), 1]
+                }
+            };
             passes.push(PassGpu {
                 pipeline: Arc::clone(pipeline),
                 bind_groups,
-                workgroups: [w.div_ceil(wg[0].max(1)), h.div_ceil(wg[1].max(1)), 1],
+                workgroups,
                 params,
                 run,
                 work_list,
+                tile_pool,
             });
         }
         let most: u64 = schedule.passes.iter().map(|p| u64::from(dispatches_at_most(p.run))).sum();
@@ -313,7 +335,7 @@ impl Executor {
         // layout is the same, so kept history textures stay in step.
         let parity = previous.filter(|p| p.schedule.flips_parity == schedule.flips_parity).map_or(0, |p| p.parity);
         let runs = vec![RunState::default(); passes.len()];
-        Ok(Executor { schedule: schedule.clone(), size, textures, passes, timer, parity, frame: 0, runs, run_records, textures_kept, camera_still: false })
+        Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, camera_still: false })
     }
 
     /// Writes pass `pass`'s packed params (after `PassParams::set`).
@@ -332,7 +354,21 @@ impl Executor {
         }
         let bind_groups = &p.bind_groups[usize::from(self.parity)];
         let (entry, listed) = p.pipeline.for_frame(self.camera_still);
-        let (Some(listed), Some(list)) = (listed, &p.work_list) else {
+        // A second, indirect dispatch: the listed entry over the texels the
+        // entry listed (a work list, emptied first), or the entry again
+        // over the chunks of a tile pool its invocations left.
+        let second = match (listed, &p.work_list, &p.tile_pool, &self.pool_fixup) {
+            (Some(listed), Some(list), _, _) => {
+                enc.clear_buffer(&list.list, 0, Some(8));
+                Some((listed, &list.args))
+            }
+            (_, _, Some(pool), Some(_)) => {
+                pool.encode_fill(enc);
+                Some((entry, pool.args()))
+            }
+            _ => None,
+        };
+        let Some((second_pipeline, args)) = second else {
             let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes });
             cp.set_pipeline(entry);
             for (g, bg) in bind_groups {
@@ -341,9 +377,7 @@ impl Executor {
             cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
             return;
         };
-        // A pass with a work list: empty it, let the entry fill it, then
-        // run the listed entry over it; the timestamps bracket both.
-        enc.clear_buffer(&list.list, 0, Some(8));
+        // The timestamps bracket both dispatches.
         {
             let first = timestamp_writes.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
                 query_set: t.query_set,
@@ -357,18 +391,22 @@ impl Executor {
             }
             cp.dispatch_workgroups(p.workgroups[0], p.workgroups[1], p.workgroups[2]);
         }
-        enc.copy_buffer_to_buffer(&list.list, 4, &list.args, 0, 12);
-        let second = timestamp_writes.map(|t| wgpu::ComputePassTimestampWrites {
+        match (&p.work_list, &p.tile_pool, &self.pool_fixup) {
+            (Some(list), _, _) => enc.copy_buffer_to_buffer(&list.list, 4, &list.args, 0, 12),
+            (None, Some(pool), Some(fixup)) => pool.encode_leftover(enc, fixup),
+            _ => {}
+        }
+        let end = timestamp_writes.map(|t| wgpu::ComputePassTimestampWrites {
             query_set: t.query_set,
             beginning_of_pass_write_index: None,
             end_of_pass_write_index: t.end_of_pass_write_index,
         });
-        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes: second });
-        cp.set_pipeline(listed);
+        let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(&sp.name), timestamp_writes: end });
+        cp.set_pipeline(second_pipeline);
         for (g, bg) in bind_groups {
             cp.set_bind_group(*g, bg, &[]);
         }
-        cp.dispatch_workgroups_indirect(&list.args, 0);
+        cp.dispatch_workgroups_indirect(args, 0);
     }
 
     /// This frame's dispatches: per pass, how many (0 for a pass that does

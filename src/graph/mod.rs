@@ -11,6 +11,7 @@ pub mod pipelines;
 pub mod report;
 pub mod runs;
 pub mod schedule;
+pub mod tile_pool;
 #[cfg(test)]
 mod tests;
 

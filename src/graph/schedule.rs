@@ -10,6 +10,9 @@ use crate::shader::BindingKind;
 pub const WORK_LIST: &str = "work_list";
 /// The listed entry's workgroup size (`WORK_GROUP` in shared/work_list.wgsl).
 pub const WORK_LIST_GROUP: u32 = 64;
+/// The binding through which a pass takes its texels from a pool in
+/// chunks (shared/tile_pool.wgsl): one counter, zeroed before each dispatch.
+pub const TILE_POOL: &str = "tile_pool";
 /// Bytes before the work list's items: the count, then the indirect
 /// dispatch's (x, y, z) groups.
 pub const WORK_LIST_HEADER: u64 = 16;
@@ -141,6 +144,10 @@ pub enum Target {
     /// (shared/work_list.wgsl): emptied before the pass, filled by its
     /// entry, read by the listed entry and as its indirect dispatch.
     WorkList,
+    /// The pass's tile pool (shared/tile_pool.wgsl): a counter zeroed
+    /// before each dispatch, from which its invocations take chunks of
+    /// texels until none are left.
+    TilePool,
 }
 
 #[derive(Debug, Clone, PartialEq)]

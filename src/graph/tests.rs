@@ -956,3 +956,4 @@ fn errors_point_at_the_pass_not_a_namesake() {
 }
 
 mod listed;
+mod pooled;

@@ -27,6 +27,7 @@ use crate::graph::desc::ParamValue;
 use crate::graph::edit::ParamSet;
 use crate::graph::executor::{Executor, PassTimings, Timing};
 use crate::graph::pipelines::PipelineCache;
+use crate::graph::tile_pool;
 use crate::graph::{self, CompileOptions, CompiledGraph};
 use crate::scene::Scene;
 use frame_uniform::{CameraGpu, FrameGpu};
@@ -160,7 +161,9 @@ impl Session {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let set = PipelineCache::default().build(&gpu.device, &graph, &scene.engine_constants())?;
+        let mut constants = scene.engine_constants();
+        constants.push(tile_pool::constant(gpu.info.device_type));
+        let set = PipelineCache::default().build(&gpu.device, &graph, &constants)?;
         let executor = Executor::new(gpu, &graph.schedule, &set.per_pass, &|e| scene.binding(e, &frame_buffer), options.size, None)?;
         Ok(Session {
             gpu: gpu.clone(),

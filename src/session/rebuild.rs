@@ -17,6 +17,7 @@ use crate::gpu::Gpu;
 use crate::graph::desc::FrameGraph;
 use crate::graph::edit::ParamSet;
 use crate::graph::pipelines::{PipelineCache, PipelineSet};
+use crate::graph::tile_pool;
 use crate::graph::{self, CompileOptions, CompiledGraph};
 use crate::scene::Camera;
 use crate::session::scene_gpu::SceneGpu;
@@ -188,7 +189,8 @@ impl RebuildJob {
         };
         let features = scene.as_ref().map_or(current.schedule.features, |s| s.scene.compile_features());
         let graph = graph::compile_loaded(&path, desc, shaders, &features, &options)?;
-        let constants = scene.as_ref().map_or(engine_constants, |s| s.engine_constants());
+        let mut constants = scene.as_ref().map_or(engine_constants, |s| s.engine_constants());
+        constants.push(tile_pool::constant(gpu.info.device_type));
         let pipelines = cache.build(&gpu.device, &graph, &constants)?;
         Ok(Rebuild { kind, graph, pipelines, scene, options, started })
     }

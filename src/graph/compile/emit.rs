@@ -82,6 +82,7 @@ pub(super) fn emit_schedule(
                 Bound::Params => Target::Params,
                 Bound::Run => Target::Run,
                 Bound::WorkList => Target::WorkList,
+                Bound::TilePool => Target::TilePool,
             };
             bindings.push(ResolvedBinding { name: b.name.clone(), group: b.group, binding: b.binding, kind: b.kind.clone(), target });
         }

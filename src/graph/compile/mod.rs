@@ -127,6 +127,7 @@ enum Bound {
     Params,
     Run,
     WorkList,
+    TilePool,
 }
 
 #[derive(Debug, Clone)]

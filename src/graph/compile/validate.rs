@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::{err, err_at, names, Bound, CompileError, ErrorKind, PassPlan};
 use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, RunMode, TextureDesc, MAX_TEXELS_PER_INVOCATION};
 use crate::graph::params::{ParamError, PassParams};
-use crate::graph::schedule::{EngineKind, EngineResource, WORK_LIST, WORK_LIST_GROUP};
+use crate::graph::schedule::{EngineKind, EngineResource, TILE_POOL, WORK_LIST, WORK_LIST_GROUP};
 use crate::format::TexFormat;
 use crate::shader::{BindingInfo, BindingKind, EntryInfo, SampleType, ScalarType, ShaderInfo, StorageAccess};
 
@@ -146,7 +146,13 @@ fn check_texels_per_invocation(pass: &PassDesc) -> Result<(), CompileError> {
 fn check_work_list(pass: &PassDesc, entry: &EntryInfo, bindings: &[(&BindingInfo, Bound)]) -> Result<(), CompileError> {
     let declared = bindings.iter().any(|(_, b)| *b == Bound::WorkList);
     let filled = entry.bindings.iter().any(|b| b.name == WORK_LIST);
+    let pooled = bindings.iter().any(|(_, b)| *b == Bound::TilePool);
     match &pass.listed {
+        Some(_) if pooled => Err(err(
+            ErrorKind::WrongAccess,
+            Some(&pass.name),
+            format!("the shader takes its texels from `{TILE_POOL}`, and a pass with a `listed:` entry takes them from its work list: give it one or the other"),
+        )),
         None if declared => Err(err(
             ErrorKind::WrongAccess,
             Some(&pass.name),
@@ -166,6 +172,12 @@ fn bind_one(desc: &FrameGraph, pass: &str, b: &BindingInfo, target: &str) -> Res
         return match b.kind {
             BindingKind::Storage { read_only: false } => Ok(Bound::WorkList),
             _ => Err(err_at(ErrorKind::WrongAccess, pass, b, "`work_list` must be a var<storage, read_write> WorkList (shared/work_list.wgsl)")),
+        };
+    }
+    if b.name == TILE_POOL && target == TILE_POOL {
+        return match b.kind {
+            BindingKind::Storage { read_only: false } => Ok(Bound::TilePool),
+            _ => Err(err_at(ErrorKind::WrongAccess, pass, b, "`tile_pool` must be a var<storage, read_write> atomic<u32> (shared/tile_pool.wgsl)")),
         };
     }
     if b.name == "params" && target == "params" {
