@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{err, err_at, names, Bound, CompileError, ErrorKind, PassPlan};
-use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, RunMode, TextureDesc, MAX_TEXELS_PER_INVOCATION};
+use crate::graph::desc::{FrameGraph, PassDesc, ResourceDesc, RunMode, SizeDesc, TextureDesc, MAX_TEXELS_PER_INVOCATION};
 use crate::graph::params::{ParamError, PassParams};
 use crate::graph::schedule::{EngineKind, EngineResource, TILE_POOL, WORK_LIST, WORK_LIST_GROUP};
 use crate::format::TexFormat;
@@ -57,6 +57,7 @@ pub(super) fn validate<'a>(
         }
         check_work_list(pass, entry, &bindings)?;
         check_texels_per_invocation(pass)?;
+        check_tile_pool(desc, pass, &bindings)?;
         check_pass_writes(name, &bindings)?;
         check_run(desc, pass, &bindings)?;
         // An entry point that does not use `params` (another entry of the
@@ -139,6 +140,32 @@ fn check_texels_per_invocation(pass: &PassDesc) -> Result<(), CompileError> {
     }
     if n > 1 && pass.listed.is_some() {
         return Err(err(ErrorKind::BadSize, Some(&pass.name), "`texels_per_invocation` above 1 and `listed` do not go together: a work list has one entry per texel"));
+    }
+    Ok(())
+}
+
+/// A pass that takes its texels from a tile pool covers the render size
+/// (the pool hands out the texels of `frame.size`, src/graph/tile_pool.rs
+/// sizes its dispatch), one texel a step: no other dispatch size, no
+/// texture of another size written, no `texels_per_invocation`.
+fn check_tile_pool(desc: &FrameGraph, pass: &PassDesc, bindings: &[(&BindingInfo, Bound)]) -> Result<(), CompileError> {
+    if !bindings.iter().any(|(_, b)| *b == Bound::TilePool) {
+        return Ok(());
+    }
+    let refuse = |what: String| Err(err(ErrorKind::BadSize, Some(&pass.name), format!("{what}, but the shader takes its texels from `{TILE_POOL}`, which covers the render size one texel at a time")));
+    if pass.texels_per_invocation.is_some_and(|n| n > 1) {
+        return refuse("`texels_per_invocation` is above 1".into());
+    }
+    if let Some(d) = pass.dispatch.filter(|d| *d != SizeDesc::Screen) {
+        return refuse(format!("`dispatch` is {d:?}"));
+    }
+    for (_, b) in bindings {
+        let Bound::Write { resource, .. } = b else { continue };
+        if let Some(ResourceDesc::Texture(TextureDesc { size, .. })) = desc.resources.get(resource) {
+            if *size != SizeDesc::Screen {
+                return refuse(format!("it writes `{resource}`, of size {size:?}"));
+            }
+        }
     }
     Ok(())
 }

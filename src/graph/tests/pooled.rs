@@ -40,3 +40,22 @@ fn a_pooled_pass_has_no_work_list() {
     let e = fail_with(&pooled_graph(true), &[s]);
     check(&e, ErrorKind::WrongAccess, Some("pool"), None, &["`tile_pool`", "`listed:`"]);
 }
+
+#[test]
+fn a_pooled_pass_covers_the_render_size() {
+    let shaders = [pooled_shader(storage(false))];
+    // Writing a half-size texture.
+    let mut g = pooled_graph(false);
+    let half = graph(
+        "\"a\": Texture(format: Rgba16Float),\n\"b\": Texture(format: Rgba16Float, size: Scaled(0.5)),\n",
+        "Pass(name: \"gen\", shader: \"gen.wgsl\", bind: { \"dst\": \"a\" }),\n\
+         Pass(name: \"pool\", shader: \"pool.wgsl\", bind: { \"src\": \"a\", \"dst\": \"b\" }),",
+        "b",
+    );
+    let e = fail_with(&half, &shaders);
+    check(&e, ErrorKind::BadSize, Some("pool"), None, &["`b`", "`tile_pool`"]);
+    // Several texels an invocation.
+    g.passes[1].texels_per_invocation = Some(4);
+    let e = fail_with(&g, &shaders);
+    check(&e, ErrorKind::BadSize, Some("pool"), None, &["`texels_per_invocation`", "`tile_pool`"]);
+}
