@@ -311,3 +311,21 @@ fn bench_rays_counts_traversal_trips() {
         assert!(out.lines().any(|l| l.starts_with(&format!("{pass}_ms_wall="))), "no {pass}_ms_wall in:\n{out}");
     }
 }
+
+/// `--vs DIR` times another checkout's bench graph in the same process,
+/// run by run in turn, and prints its times and the per-run ratios; a
+/// folder without a bench graph is an error that names the file.
+#[test]
+fn bench_rays_times_another_checkout_in_turn() {
+    let base = ["bench", "rays", "--obj", "scenes/meshes/knot.obj", "--size", "32x16", "--camera", "0,0,5,0,0,0,45", "--runs", "2", "--vs"];
+    let (code, out, err) = glint(&[&base[..], &["."]].concat());
+    assert_eq!(code, 0, "{err}");
+    for pass in ["query", "primary", "shadow", "diffuse"] {
+        for key in [format!("vs_{pass}_ms_wall="), format!("vs_{pass}_ms_wall_min="), format!("{pass}_over_vs=")] {
+            assert!(out.lines().any(|l| l.starts_with(&key)), "no {key} in:\n{out}");
+        }
+    }
+    let (code, _, err) = glint(&[&base[..], &["scenes"]].concat());
+    assert_ne!(code, 0);
+    assert!(err.contains("bench-rays.ron"), "{err}");
+}

@@ -76,7 +76,17 @@ pub struct RaysArgs {
     /// counting costs time: compare times from runs without it.
     #[arg(long)]
     pub trips: bool,
+    /// Another checkout (its passes/bench-rays.ron and shaders/) timed
+    /// against this one in the same process, run by run in turn: prints
+    /// its times as `vs_*` and the median of the per-run ratios, which a
+    /// machine whose speed swings within minutes leaves far steadier than
+    /// two separate runs.
+    #[arg(long)]
+    pub vs: Option<PathBuf>,
 }
+
+/// The passes `glint bench rays` times, by name in bench-rays.ron.
+const TIMED: [&str; 4] = ["query", "primary", "shadow", "diffuse"];
 
 fn parse_camera(s: &str) -> Result<[f64; 7], String> {
     let v: Vec<f64> = s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| format!("`{s}`: {e}"))?;
@@ -112,7 +122,8 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     );
     let load_start = Instant::now();
     // The scene is made from the arguments: errors name them, not a file.
-    let scene = crate::scene::parse(&text, Path::new("(the scene bench rays made of --obj and --camera)"))?;
+    let scene_origin = Path::new("(the scene bench rays made of --obj and --camera)");
+    let scene = crate::scene::parse(&text, scene_origin)?;
     let load_ms = load_start.elapsed().as_secs_f64() * 1e3;
     let triangles = scene.triangle_count();
     // The builder is timed on the triangles in the OBJ's order: the
@@ -122,15 +133,11 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     check_size(&gpu, args.size)?;
     let graph_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/bench-rays.ron");
     let graph_path = if Path::new("passes/bench-rays.ron").is_file() { PathBuf::from("passes/bench-rays.ron") } else { graph_path };
-    let shader_dir = graph::shader_dir_for(&graph_path);
-    let options = CompileOptions { keep: vec!["bench_normal".into()], also_compute: vec!["bench_query".into()], ..CompileOptions::default() };
-    let mut compiled = graph::load_and_compile(&graph_path, &shader_dir, &scene.compile_features(), &options)?;
-    if args.trips {
-        for pass in compiled.schedule.passes.iter_mut().filter(|p| p.name == "primary") {
-            pass.constants.push(("COUNT_TRIPS".into(), 1.0));
-        }
-    }
-    let mut session = Session::with_graph(&gpu, scene, compiled, shader_dir, SessionOptions::new(args.size))?;
+    let other = match &args.vs {
+        Some(dir) => Some(bench_session(&gpu, crate::scene::parse(&text, scene_origin)?, &dir.join("passes/bench-rays.ron"), &args)?),
+        None => None,
+    };
+    let mut session = bench_session(&gpu, scene, &graph_path, &args)?;
     let build = session.scene.bvh_stats;
     out!("adapter={}", gpu.describe());
     out!("triangles={triangles}");
@@ -155,25 +162,24 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
     out!("bvh_nodes={}", session.scene.buffers.data.bvh.len());
 
     // Warm up (pipeline compilation, first-touch), then time each pass.
-    session.timing = Timing::WallPerPass;
-    session.frame(0.0);
-    let names = ["query", "primary", "shadow", "diffuse"];
+    let names = TIMED;
+    let mut other = other.map(|s| (s, vec![Vec::new(); names.len()]));
+    for s in std::iter::once(&mut session).chain(other.as_mut().map(|(s, _)| s)) {
+        s.timing = Timing::WallPerPass;
+        s.frame(0.0);
+    }
     let mut wall: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     let mut stamps: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
-    // By name: a graph edited to have other passes times only these.
-    let record = |into: &mut Vec<Vec<f64>>, timings: Vec<crate::graph::executor::PassTimings>| {
-        for t in timings {
-            for (name, m) in t.passes {
-                if let Some(i) = names.iter().position(|n| *n == name) {
-                    into[i].push(m);
-                }
-            }
+    for run in 0..args.runs.max(1) {
+        // The other checkout first on every other run, so that neither
+        // always follows the other.
+        if let Some((s, w)) = other.as_mut().filter(|_| run % 2 == 1) {
+            time_frame(s, w);
         }
-    };
-    for _ in 0..args.runs.max(1) {
-        session.timing = Timing::WallPerPass;
-        let t = session.frame(0.0);
-        record(&mut wall, t);
+        time_frame(&mut session, &mut wall);
+        if let Some((s, w)) = other.as_mut().filter(|_| run % 2 == 0) {
+            time_frame(s, w);
+        }
         if Timing::stamps_bracket_work(&gpu) {
             session.timing = Timing::Gpu;
             session.frame(0.0);
@@ -195,11 +201,18 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
         let w = median(&wall[i]);
         out!("{}_ms_wall={w:.3}", names[i]);
         out!("{}_mrays_per_s_wall={:.2}", names[i], counts[i] / (w * 1e3));
+        // The fastest run: on a machine whose speed swings, slowdowns only
+        // add, so two builds compare best by their minima.
+        let fastest = wall[i].iter().copied().fold(f64::INFINITY, f64::min);
+        out!("{}_ms_wall_min={fastest:.3}", names[i]);
         if !stamps[i].is_empty() {
             let g = median(&stamps[i]);
             out!("{}_ms_gpu={g:.3}", names[i]);
             out!("{}_mrays_per_s_gpu={:.2}", names[i], counts[i] / (g.max(1e-6) * 1e3));
         }
+    }
+    if let Some((_, vs)) = &other {
+        print_vs(&wall, vs);
     }
     if let Some(path) = &args.hitdist {
         write_hitdist(&out, path)?;
@@ -209,6 +222,58 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
         print_trips(&session, args.size.0)?;
     }
     Ok(())
+}
+
+/// The bench graph at `graph_path` (its shaders beside it) compiled for
+/// `scene`, as a session.
+fn bench_session(gpu: &Gpu, scene: crate::scene::Scene, graph_path: &Path, args: &RaysArgs) -> Result<Session, UserError> {
+    let shader_dir = graph::shader_dir_for(graph_path);
+    let options = CompileOptions { keep: vec!["bench_normal".into()], also_compute: vec!["bench_query".into()], ..CompileOptions::default() };
+    let mut compiled = graph::load_and_compile(graph_path, &shader_dir, &scene.compile_features(), &options)?;
+    if args.trips {
+        for pass in compiled.schedule.passes.iter_mut().filter(|p| p.name == "primary") {
+            pass.constants.push(("COUNT_TRIPS".into(), 1.0));
+        }
+    }
+    Session::with_graph(gpu, scene, compiled, shader_dir, SessionOptions::new(args.size))
+}
+
+/// Appends each pass's timings to `into`, by name: a graph edited to
+/// have other passes times only these.
+fn record(into: &mut [Vec<f64>], timings: Vec<crate::graph::executor::PassTimings>) {
+    for t in timings {
+        for (name, m) in t.passes {
+            if let Some(i) = TIMED.iter().position(|n| *n == name) {
+                into[i].push(m);
+            }
+        }
+    }
+}
+
+/// One frame with every pass timed by the wall clock, into `wall`.
+fn time_frame(session: &mut Session, wall: &mut [Vec<f64>]) {
+    session.timing = Timing::WallPerPass;
+    let t = session.frame(0.0);
+    record(wall, t);
+}
+
+/// The `--vs` checkout's times and, per pass, the median over runs of
+/// this checkout's time over the other's in the same run.
+fn print_vs(wall: &[Vec<f64>], vs: &[Vec<f64>]) {
+    for (i, name) in TIMED.iter().enumerate() {
+        if vs[i].is_empty() {
+            continue;
+        }
+        out!("vs_{name}_ms_wall={:.3}", median(&vs[i]));
+        let fastest = vs[i].iter().copied().fold(f64::INFINITY, f64::min);
+        out!("vs_{name}_ms_wall_min={fastest:.3}");
+        let ratios: Vec<f64> = wall[i].iter().zip(&vs[i]).map(|(a, b)| a / b).collect();
+        if !ratios.is_empty() {
+            let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            out!("{name}_over_vs={:.3} (runs {lo:.3}-{hi:.3})", median(&ratios));
+        }
+    }
 }
 
 /// The primary rays' trip counts (bench_normal.w, see `--trips`).
