@@ -1,4 +1,6 @@
-// Direct lighting, multiplied into the albedo and added to `lit`.
+// Direct lighting, multiplied into the albedo and added to `lit`: `main`
+// adds to what an albedo pass or an earlier light pass left (`lit_in`),
+// `first` starts `lit` itself.
 //   SPHERE_MODE 0: sphere lights are skipped (another pass handles them)
 //               1: point mode, one shadow ray to the light centre, I = L pi r^2
 //               2: area mode, `samples` cone samples per light with shadow rays
@@ -28,9 +30,8 @@ struct Params {
 @group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
 @group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, read>;
-@group(0) @binding(4) var albedo: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(5) var lit_in: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(6) var lit: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
 
 const SALT: u32 = 0x6c696768u;
 
@@ -39,13 +40,42 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let before = textureLoad(lit_in, id.xy);
     let ids = textureLoad(gbuf_id, id.xy);
+    let m = load_material(select(ids.x, 0u, ids.y == NO_OBJECT));
+    // One store, the light added only where a lit surface is: CPU drivers
+    // run every branch under a lane mask, so an early store for the other
+    // pixels would be a second store for all of them.
+    textureStore(lit, id.xy, shade(id.xy, ids, diffuse_albedo(m), textureLoad(lit_in, id.xy)));
+}
+
+// The first light pass of a graph without an albedo pass: it seeds `lit`
+// with what needs no lighting (emission, the background), as the albedo
+// pass does. The same image with one full-screen pass and two full-screen
+// textures fewer (hybrid-point.ron, hybrid.ron).
+@compute @workgroup_size(64, 1)
+fn first(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let ids = textureLoad(gbuf_id, id.xy);
+    let miss = ids.y == NO_OBJECT;
+    let m = load_material(select(ids.x, 0u, miss));
+    let unlit = select(select(vec3f(0.0), m.emission, is_emissive(m)), frame.background, miss);
+    textureStore(lit, id.xy, shade(id.xy, ids, diffuse_albedo(m), vec4f(unlit, 1.0)));
+}
+
+// The diffuse share of a lit surface's albedo (the specular share is the
+// reflections pass's to shade). From the material, not from an albedo
+// pass's texture, which holds the same for a lit surface: a load from the
+// small material table costs no more than one from a full-screen texture.
+fn diffuse_albedo(m: Material) -> vec3f {
+    return m.albedo * (1.0 - m.specular);
+}
+
+// `before` plus, on a lit surface, the light falling on it times base / pi.
+fn shade(id: vec2u, ids: vec4u, base: vec3f, before: vec4f) -> vec4f {
     let p = textureLoad(gbuf_pos, id.xy).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
-    // The diffuse share of the surface; the specular share is the
-    // reflections pass's to shade.
-    let base = textureLoad(albedo, id.xy).rgb * (1.0 - material_specular(ids.x));
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
@@ -80,8 +110,5 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         irradiance += light_irradiance(i, l, p, n, o, count, params.falloff, params.falloff_k, &rng);
     }
     let radiance = finite_or_zero(base / PI * irradiance);
-    // One store, the light added only where a lit surface is: CPU drivers
-    // run every branch under a lane mask, so an early store for the other
-    // pixels would be a second store for all of them.
-    textureStore(lit, id.xy, select(before, vec4f(before.rgb + radiance, 1.0), is_lit_surface(ids)));
+    return select(before, vec4f(before.rgb + radiance, 1.0), is_lit_surface(ids));
 }

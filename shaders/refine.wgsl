@@ -16,9 +16,8 @@ struct Params {
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, read>;
 @group(0) @binding(4) var gbuf_id: texture_storage_2d<rg32uint, read>;
-@group(0) @binding(5) var albedo: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(6) var lit_in: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(7) var lit: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(5) var lit_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(6) var lit: texture_storage_2d<rgba32float, write>;
 
 const SALT: u32 = 0x72656669u;
 
@@ -47,7 +46,10 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     let ids = textureLoad(gbuf_id, id.xy);
     let p = textureLoad(gbuf_pos, id.xy).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
-    let base = textureLoad(albedo, id.xy).rgb * (1.0 - material_specular(ids.x));
+    // A lit surface (main listed no other): its albedo is the material's,
+    // what the albedo pass would have stored.
+    let m = load_material(ids.x);
+    let base = m.albedo * (1.0 - m.specular);
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);
