@@ -177,7 +177,7 @@ fn still_history(h: History, g: vec4f) -> History {
     return History(Mean(value, comp), h.count);
 }
 
-@compute @workgroup_size(64, 1)
+@compute @workgroup_size(256, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
