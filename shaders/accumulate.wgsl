@@ -1,4 +1,5 @@
-// Progressive accumulation: a per-pixel running mean of `src`.
+// Progressive accumulation: a per-pixel running mean of `src`. Entry
+// `main` as below; `reset` is mode 0 without the G-buffer and `geo`.
 //   mode 0 (the thesis): the history is dropped whenever the camera or the
 //          scene changes (frame.accum_count = 0).
 //   mode 1: the history survives camera motion. Each pixel's G-buffer hit is
@@ -182,7 +183,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let sample = clean_sample(textureLoad(src, id.xy).rgb, params.clamp_max);
     let g = textureLoad(gbuf_pos, id.xy);
     let nw = textureLoad(gbuf_normal, id.xy);
     let n = nw.xyz;
@@ -203,6 +203,31 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             history = reprojected(id.xy, g, n, nw.w > 0.0);
         }
     }
+    let count = add_sample(id.xy, history);
+    textureStore(geo, id.xy, vec4f(oct_encode(n), select(g.w, -1.0, g.w < 0.0), f32(count)));
+}
+
+// Mode 0 alone, without the geometry: `src` into the pixel's own history,
+// which any camera or scene change drops. For a graph that never
+// reprojects (pathtrace.ron): no G-buffer to read and no `geo` to write,
+// so its first pass need not store a G-buffer either.
+@compute @workgroup_size(256, 1)
+fn reset(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    var history = History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
+    if frame.accum_count > 0u {
+        history = load_history(vec2i(id.xy));
+        history.count = frame.accum_count;
+    }
+    add_sample(id.xy, history);
+}
+
+// Adds this frame's sample of `src` to `history` and stores the mean and
+// its compensation and count; returns the count.
+fn add_sample(id: vec2u, history: History) -> u32 {
+    let sample = clean_sample(textureLoad(src, id).rgb, params.clamp_max);
     var count = history.count;
     if params.max_history > 0u {
         count = min(count, params.max_history);
@@ -212,7 +237,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         m = mean_add(m, sample.value, count, frame.exact_one);
         count += 1u;
     }
-    textureStore(accum, id.xy, vec4f(m.value, 1.0));
-    textureStore(comp, id.xy, vec4u(bitcast<vec3u>(m.comp), count));
-    textureStore(geo, id.xy, vec4f(oct_encode(n), select(g.w, -1.0, g.w < 0.0), f32(count)));
+    textureStore(accum, id, vec4f(m.value, 1.0));
+    textureStore(comp, id, vec4u(bitcast<vec3u>(m.comp), count));
+    return count;
 }

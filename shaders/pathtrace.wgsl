@@ -20,7 +20,11 @@ struct Params {
 @group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, write>;
 // The camera ray's first hit, as the G-buffer stores it (for reprojection
 // in accumulate): position and distance (direction and -1 on a miss), and
-// the normal facing the camera with the specular share in w.
+// the normal facing the camera with the specular share in w. Not stored
+// with FIRST_HIT 0 (shared/path.wgsl), for a graph whose accumulation
+// never reprojects: these stores sit inside the path loop, where a CPU
+// driver runs them on every trip under the lane mask (the pass took
+// 0.89x the time without them on the Cornell box).
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, write>;
 // `radiance` again, for the later dispatches of a split frame (main_more).
@@ -94,8 +98,10 @@ fn render(id: vec3u, groups: vec3u) {
             s += 1u;
             if pixel_done {
                 textureStore(radiance, pixel, vec4f(sum / f32(spp), 1.0));
-                textureStore(gbuf_pos, pixel, path_primary_pos);
-                textureStore(gbuf_normal, pixel, path_primary_normal);
+                if FIRST_HIT {
+                    textureStore(gbuf_pos, pixel, path_primary_pos);
+                    textureStore(gbuf_normal, pixel, path_primary_normal);
+                }
                 if lane_done {
                     break;
                 }

@@ -331,3 +331,17 @@ fn bench_rays_times_another_checkout_in_turn() {
     assert_ne!(code, 0);
     assert!(err.contains("bench-rays.ron"), "{err}");
 }
+
+/// `bench frames` renders two graphs in turn and prints the median
+/// per-frame ratio, and with `--profile` each pass's.
+#[test]
+fn bench_frames_compares_two_graphs_in_turn() {
+    let (code, out, err) = glint(&["bench", "frames", "scenes/cornell.ron", "--graph", "passes/hybrid-point.ron", "--vs", "passes/hybrid-point.ron", "--size", "32x16", "--frames", "2", "--profile"]);
+    assert_eq!(code, 0, "{err}");
+    for key in ["frame_over_vs=", "gbuffer_over_vs=", "accumulate_over_vs="] {
+        assert!(out.contains(key), "no {key} in:\n{out}");
+    }
+    let (code, _, err) = glint(&["bench", "frames", "scenes/cornell.ron", "--graph", "passes/hybrid-point.ron", "--vs", "passes/none.ron", "--frames", "1"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("none.ron"), "{err}");
+}

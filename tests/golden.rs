@@ -13,6 +13,7 @@ use glint::graph::{self, CompileOptions};
 use glint::image_io;
 use glint::metrics;
 use std::f32::consts::PI;
+use std::path::Path;
 
 const SIZE: (u32, u32) = (64, 64);
 const FRAMES: u32 = 4;
@@ -115,17 +116,18 @@ fn check(name: &str, actual: &ImageF32, failures: &mut Vec<String>) {
 /// it: a resource a later pass overwrites is rendered with the graph cut
 /// after the pass (`stop_after`).
 fn golden_graph(graph_file: &str, scene_file: &str, failures: &mut Vec<String>) -> usize {
-    golden_variant(graph_file, scene_file, "", &[], failures)
+    golden_variant(&repo().join("passes").join(graph_file), scene_file, "", &[], failures)
 }
 
-/// `golden_graph` with `--set` edits, the goldens named with `variant`.
-fn golden_variant(graph_file: &str, scene_file: &str, variant: &str, set: &[&str], failures: &mut Vec<String>) -> usize {
+/// `golden_graph` of the graph at `graph_path` with `--set` edits, the
+/// goldens named after its file and `variant`.
+fn golden_variant(graph_path: &Path, scene_file: &str, variant: &str, set: &[&str], failures: &mut Vec<String>) -> usize {
     let Some(gpu) = gpu() else { return 0 };
-    let graph_path = repo().join("passes").join(graph_file);
+    let graph_file = graph_path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
     let features = load_scene(scene_file).features;
     let set: Vec<ParamSet> = set.iter().map(|s| s.parse().unwrap_or_else(|e| panic!("{e}"))).collect();
     let base = CompileOptions { edits: GraphEdits { set: set.clone(), ..Default::default() }, ..Default::default() };
-    let full = graph::load_and_compile(&graph_path, &repo().join("shaders"), &features, &base).unwrap_or_else(|e| panic!("{e}"));
+    let full = graph::load_and_compile(graph_path, &repo().join("shaders"), &features, &base).unwrap_or_else(|e| panic!("{e}"));
     let mut count = 0;
     for pass in &full.schedule.passes {
         for written in &pass.writes {
@@ -137,7 +139,7 @@ fn golden_variant(graph_file: &str, scene_file: &str, variant: &str, set: &[&str
                 edits: GraphEdits { stop_after, set: set.clone(), ..Default::default() },
                 ..Default::default()
             };
-            let img = render_with(gpu, load_scene(scene_file), &graph_path, SIZE, FRAMES, &options);
+            let img = render_with(gpu, load_scene(scene_file), graph_path, SIZE, FRAMES, &options);
             let name = format!(
                 "{}{variant}-{}-{}-{resource}",
                 graph_file.trim_end_matches(".ron"),
@@ -159,7 +161,6 @@ fn golden_images_of_every_pass() {
         ("direct.ron", "cornell.ron"),
         ("direct.ron", "cornell-point.ron"),
         ("direct.ron", "moving-lights.ron"),
-        ("pathtrace.ron", "cornell.ron"),
         ("bench-rays.ron", "cornell.ron"),
         ("hybrid.ron", "cornell.ron"),
         ("hybrid.ron", "cornell-point.ron"),
@@ -171,7 +172,16 @@ fn golden_images_of_every_pass() {
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }
-    count += golden_variant("irradiance.ron", "cornell.ron", "-ddgi", &["probes.mode=ddgi"], &mut failures);
+    count += golden_variant(&repo().join("passes/irradiance.ron"), "cornell.ron", "-ddgi", &["probes.mode=ddgi"], &mut failures);
+    // pathtrace.ron binds the G-buffer but stores none (FIRST_HIT 0, as no
+    // pass of it reprojects): its goldens are of the graph with the first
+    // hit stored, which leaves every other output as it was.
+    let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("read pathtrace.ron");
+    let stored = text.replace("FIRST_HIT: 0", "FIRST_HIT: 1");
+    assert_ne!(stored, text, "pathtrace.ron no longer sets FIRST_HIT: 0");
+    let dir = scratch("golden-first-hit");
+    std::fs::write(dir.join("pathtrace.ron"), stored).expect("write the graph");
+    count += golden_variant(&dir.join("pathtrace.ron"), "cornell.ron", "", &[], &mut failures);
     // Debug views: passes that run only when their resource is the output;
     // and the bench's query pass, which nothing in its graph reads (the
     // bench keeps it with `also_compute`).

@@ -64,7 +64,7 @@ fn flat_shortcuts_leave_the_path_tracers_image_as_it_was() {
     let cornell = std::fs::read_to_string(repo().join("scenes/cornell.ron")).expect("read cornell");
     let dir = scratch("pairs");
     for (constant, off) in [("FLAT_PAIRS", 0), ("FLAT_LAST_LIGHT_SPHERE", 32)] {
-        let forced = text.replace("entry: \"main\",", &format!("entry: \"main\", constants: {{ {constant}: {off} }},"));
+        let forced = text.replace("constants: { FIRST_HIT: 0 }", &format!("constants: {{ FIRST_HIT: 0, {constant}: {off} }}"));
         assert_ne!(forced, text);
         let off_graph = dir.join(format!("pathtrace-{constant}.ron"));
         std::fs::write(&off_graph, forced).expect("write the graph");

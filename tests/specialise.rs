@@ -64,14 +64,14 @@ fn graph_constants_win_over_specialisation() {
     // A graph that sets a specialisation constant itself keeps its value.
     let scene = load_scene("cornell-diffuse.ron");
     let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("pathtrace.ron");
-    let text = text.replacen("entry: \"main\",", "entry: \"main\", constants: { SCENE_SPECULAR: 1 },", 1);
-    assert!(text.contains("SCENE_SPECULAR"), "pathtrace.ron no longer has `entry: \"main\",`");
+    let text = text.replacen("constants: { FIRST_HIT: 0 }", "constants: { FIRST_HIT: 0, SCENE_SPECULAR: 1 }", 1);
+    assert!(text.contains("SCENE_SPECULAR"), "pathtrace.ron no longer has `constants: {{ FIRST_HIT: 0 }}`");
     let dir = scratch("specialise-constants");
     let path = dir.join("pathtrace.ron");
     std::fs::write(&path, text).expect("write");
     let g = graph::load_and_compile(&path, &repo().join("shaders"), &scene.features, &CompileOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let pass = &g.schedule.passes[0];
-    assert_eq!(pass.constants, [("SCENE_SPECULAR".to_string(), 1.0)]);
+    assert_eq!(pass.constants, [("FIRST_HIT".to_string(), 0.0), ("SCENE_SPECULAR".to_string(), 1.0)]);
     let shader = &g.shaders[&pass.shader];
     let mut engine = vec![];
     engine.extend(g.schedule.specialisations.iter().map(|s| s.as_constant()));

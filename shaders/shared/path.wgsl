@@ -9,7 +9,9 @@
 
 // The first hit of the last path traced, as the G-buffer stores it:
 // position and distance (direction and -1 on a miss), and the normal
-// facing the ray with the specular share in w.
+// facing the ray with the specular share in w. Kept only with FIRST_HIT
+// (the path tracer's, for accumulation that reprojects).
+override FIRST_HIT: bool = true;
 var<private> path_primary_pos: vec4f;
 var<private> path_primary_normal: vec4f;
 
@@ -70,7 +72,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     // Loaded before the miss test (a miss has material 0): the G-buffer's
     // specular share comes from the same two texels.
     let m = load_material(hit.material);
-    if depth == 0u {
+    if FIRST_HIT && depth == 0u {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
         path_primary_normal = select(vec4f(facing, m.specular), vec4f(0.0), !hit_found(hit));

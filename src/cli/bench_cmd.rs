@@ -22,6 +22,9 @@ use crate::session::{check_size, Session, SessionOptions};
 pub enum BenchCommand {
     /// Ray throughput on an OBJ mesh.
     Rays(RaysArgs),
+    /// Two frame graphs on one scene, frame by frame in turn: the median
+    /// ratio of their frame (and, with --profile, pass) times.
+    Frames(super::bench_frames::FramesArgs),
     /// The thesis's stress test: add copies of the scene's first mesh until
     /// a frame takes longer than the target; report the triangles reached.
     Stress(StressArgs),
@@ -100,6 +103,7 @@ fn parse_camera(s: &str) -> Result<[f64; 7], String> {
 pub fn run(cmd: BenchCommand) -> Result<(), UserError> {
     match cmd {
         BenchCommand::Rays(args) => rays(args),
+        BenchCommand::Frames(args) => super::bench_frames::run(args),
         BenchCommand::Stress(args) => stress(args),
         BenchCommand::Converge(args) => super::converge_cmd::run(args),
         BenchCommand::Bake(args) => super::bake_cmd::bake_tables(args),

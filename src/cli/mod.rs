@@ -20,6 +20,7 @@ macro_rules! out_raw {
 
 mod bake_cmd;
 mod bench_cmd;
+mod bench_frames;
 mod converge_cmd;
 mod graph_cmd;
 mod render_cmd;

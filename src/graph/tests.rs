@@ -928,7 +928,7 @@ fn shipped_pathtrace_keeps_everything() -> Result<(), UserError> {
         let s = shipped("pathtrace.ron", scene)?;
         assert!(s.culled.is_empty());
         assert_eq!(order(&s), ["pathtrace", "accumulate"]);
-        assert_eq!(io(&s, "accumulate"), "radiance@1 accum@0 gbuf_pos@1 gbuf_normal@1 accum_geo@0 accum_comp@0 -> accum@1 accum_geo@1 accum_comp@1");
+        assert_eq!(io(&s, "accumulate"), "radiance@1 accum@0 accum_comp@0 -> accum@1 accum_comp@1");
         assert!(s.flips_parity);
     }
     Ok(())
