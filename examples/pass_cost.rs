@@ -21,7 +21,8 @@
 //! with 64x1 one run of 64 texels, and four loads from four textures cost
 //! a third as much. A wider run also pays the driver's fixed cost per
 //! workgroup less often (an empty dispatch: 8x8 4.8 ms, 64x1 2.7, 256x1
-//! 2.1). Hence screen passes are @workgroup_size(256, 1).
+//! 2.1). Hence screen passes are @workgroup_size(128, 1), which divides
+//! the usual widths (shared/frame.wgsl).
 //!
 //! The "13 prims" variants read a small scene's primitives (three texels
 //! each, the same index in every lane, as the flat-scene loop does) from a
@@ -46,6 +47,7 @@ const FOUR_LOADS: &str = "textureStore(o32, id.xy, textureLoad(t32, id.xy, 0) + 
 const VARIANTS: &[Variant] = &[
     Variant { name: "return at once", workgroup: (8, 8), body: "if id.x == 99999u { textureStore(o32, id.xy, vec4f(1.0)); }" },
     Variant { name: "return at once 64x1", workgroup: (64, 1), body: "if id.x == 99999u { textureStore(o32, id.xy, vec4f(1.0)); }" },
+    Variant { name: "return at once 128x1", workgroup: (128, 1), body: "if id.x == 99999u { textureStore(o32, id.xy, vec4f(1.0)); }" },
     Variant { name: "return at once 256x1", workgroup: (256, 1), body: "if id.x == 99999u { textureStore(o32, id.xy, vec4f(1.0)); }" },
     Variant { name: "store rgba32float", workgroup: (8, 8), body: "textureStore(o32, id.xy, vec4f(f32(id.x)));" },
     Variant { name: "store rgba32float 16x16", workgroup: (16, 16), body: "textureStore(o32, id.xy, vec4f(f32(id.x)));" },

@@ -178,7 +178,7 @@ fn still_history(h: History, g: vec4f) -> History {
     return History(Mean(value, comp), h.count);
 }
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -211,7 +211,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
 // which any camera or scene change drops. For a graph that never
 // reprojects (pathtrace.ron): no G-buffer to read and no `geo` to write,
 // so its first pass need not store a G-buffer either.
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn reset(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

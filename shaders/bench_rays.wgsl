@@ -81,7 +81,7 @@ fn primary_texel(id: vec2u) {
 }
 
 // Shadow: out.x = primary distance (inf on a miss), out.y = 1 if occluded.
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn shadow(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -98,7 +98,7 @@ fn shadow(@builtin(global_invocation_id) id: vec3u) {
 }
 
 // Diffuse: out.z = distance of a cosine-distributed bounce (-1: miss).
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn diffuse(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

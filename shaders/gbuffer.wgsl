@@ -16,7 +16,7 @@ struct Params {
 
 const SALT: u32 = 0x67627566u;
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

@@ -70,7 +70,7 @@ fn store_lit(id: vec3u, s: Surface, e: vec3f) {
     textureStore(lit, id.xy, vec4f(s.before.rgb + finite_or_zero(s.base / PI * e), 1.0));
 }
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn thesis(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -83,7 +83,7 @@ fn thesis(@builtin(global_invocation_id) id: vec3u) {
     store_lit(id, s, e);
 }
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn ddgi(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -214,7 +214,7 @@ fn probe_test(id: vec3u, i: u32, c: vec3f, hit: ptr<function, ProbeHit>, best: p
     }
 }
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn thesis_view(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -235,7 +235,7 @@ fn thesis_view(@builtin(global_invocation_id) id: vec3u) {
     textureStore(probe_view, id.xy, vec4f(finite_or_zero(shown), 1.0));
 }
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn ddgi_view(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

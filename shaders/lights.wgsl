@@ -35,7 +35,7 @@ struct Params {
 
 const SALT: u32 = 0x6c696768u;
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
@@ -52,7 +52,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
 // with what needs no lighting (emission, the background), as the albedo
 // pass does. The same image with one full-screen pass and two full-screen
 // textures fewer (hybrid-point.ron, hybrid.ron).
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn first(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

@@ -138,7 +138,7 @@ fn sample_sum(id: vec2u) -> vec3f {
     return sum;
 }
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn main_more(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

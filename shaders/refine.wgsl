@@ -23,7 +23,7 @@ const SALT: u32 = 0x72656669u;
 
 // Per texel: lists the masked texels for `listed` (the graph's `listed:`
 // entry), which alone take the extra samples; the others pass through.
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

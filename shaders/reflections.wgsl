@@ -4,7 +4,7 @@
 // only those.
 #import reflect
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

@@ -12,7 +12,7 @@ struct Params {
 @group(0) @binding(1) var blurred: texture_storage_2d<r32float, read>;
 @group(0) @binding(2) var mask: texture_storage_2d<r32float, write>;
 
-@compute @workgroup_size(256, 1)
+@compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;

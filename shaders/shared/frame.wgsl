@@ -69,12 +69,15 @@ fn project(cam: Camera, p: vec3f) -> vec3f {
     return vec3f((sx + 1.0) * 0.5 * size.x, (1.0 - sy) * 0.5 * size.y, z);
 }
 
-// Screen passes run @workgroup_size(256, 1): one run along a row, which a
+// Screen passes run @workgroup_size(128, 1): one run along a row, which a
 // CPU driver streams through memory (an 8x8 tile touches eight rows apart
 // and its texel loads cost up to three times as much), and lavapipe's
-// fixed cost per workgroup paid a quarter as often as with 64 (an empty
-// 1280x720 dispatch 2.1 ms against 2.7; accumulate 0.94x the time,
-// `cargo run --release --example pass_cost`). Entries that stride by their
+// fixed cost per workgroup paid half as often as with 64 (an empty
+// 1280x720 dispatch: 2.7 ms in 64x1 groups, 2.1 in 256x1; `cargo run
+// --release --example pass_cost`). 128 divides the usual widths (640,
+// 1280, 1920): 256 left half a workgroup idle at the end of each row of
+// 640 and took hybrid-point to 1.15x the frame at 640x360, where 128
+// takes 1.00x of 64 there and 0.98x at 1280x720 (`glint bench frames`). Entries that stride by their
 // dispatch or take texels from a pool (pathtrace's main, the ray bench's
 // query and primary, DDGI's gather phases) and work-list entries
 // (WORK_GROUP) keep 64.
