@@ -18,7 +18,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // branch under a lane mask, so a store in each would cost three.
     let m = load_material(select(ids.x, 0u, miss));
     let shown = select(select(m.albedo, m.emission, is_emissive(m)), frame.background, miss);
-    let unlit = select(select(vec3f(0.0), m.emission, is_emissive(m)), frame.background, miss);
+    let unlit = unlit_radiance(m, miss);
     textureStore(albedo, id.xy, vec4f(shown, 1.0));
     textureStore(lit, id.xy, vec4f(unlit, 1.0));
 }

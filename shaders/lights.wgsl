@@ -41,11 +41,12 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         return;
     }
     let ids = textureLoad(gbuf_id, id.xy);
-    let m = load_material(select(ids.x, 0u, ids.y == NO_OBJECT));
+    let miss = ids.y == NO_OBJECT;
+    let m = load_material(select(ids.x, 0u, miss));
     // One store, the light added only where a lit surface is: CPU drivers
     // run every branch under a lane mask, so an early store for the other
     // pixels would be a second store for all of them.
-    textureStore(lit, id.xy, shade(id.xy, ids, diffuse_albedo(m), textureLoad(lit_in, id.xy)));
+    textureStore(lit, id.xy, shade(id.xy, !miss && !is_emissive(m), diffuse_albedo(m), textureLoad(lit_in, id.xy)));
 }
 
 // The first light pass of a graph without an albedo pass: it seeds `lit`
@@ -60,20 +61,13 @@ fn first(@builtin(global_invocation_id) id: vec3u) {
     let ids = textureLoad(gbuf_id, id.xy);
     let miss = ids.y == NO_OBJECT;
     let m = load_material(select(ids.x, 0u, miss));
-    let unlit = select(select(vec3f(0.0), m.emission, is_emissive(m)), frame.background, miss);
-    textureStore(lit, id.xy, shade(id.xy, ids, diffuse_albedo(m), vec4f(unlit, 1.0)));
+    let lit_surface = !miss && !is_emissive(m);
+    textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss), 1.0)));
 }
 
-// The diffuse share of a lit surface's albedo (the specular share is the
-// reflections pass's to shade). From the material, not from an albedo
-// pass's texture, which holds the same for a lit surface: a load from the
-// small material table costs no more than one from a full-screen texture.
-fn diffuse_albedo(m: Material) -> vec3f {
-    return m.albedo * (1.0 - m.specular);
-}
-
-// `before` plus, on a lit surface, the light falling on it times base / pi.
-fn shade(id: vec2u, ids: vec4u, base: vec3f, before: vec4f) -> vec4f {
+// `before` plus, on a lit surface (a hit on a non-emitter, known from the
+// material the caller loaded), the light falling on it times base / pi.
+fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f) -> vec4f {
     let p = textureLoad(gbuf_pos, id.xy).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     let o = offset_ray(p, n);
@@ -110,5 +104,5 @@ fn shade(id: vec2u, ids: vec4u, base: vec3f, before: vec4f) -> vec4f {
         irradiance += light_irradiance(i, l, p, n, o, count, params.falloff, params.falloff_k, &rng);
     }
     let radiance = finite_or_zero(base / PI * irradiance);
-    return select(before, vec4f(before.rgb + radiance, 1.0), is_lit_surface(ids));
+    return select(before, vec4f(before.rgb + radiance, 1.0), lit_surface);
 }

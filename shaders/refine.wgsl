@@ -48,8 +48,7 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     // A lit surface (main listed no other): its albedo is the material's,
     // what the albedo pass would have stored.
-    let m = load_material(ids.x);
-    let base = m.albedo * (1.0 - m.specular);
+    let base = diffuse_albedo(load_material(ids.x));
     let o = offset_ray(p, n);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);

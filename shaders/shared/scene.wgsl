@@ -193,6 +193,23 @@ fn is_lit_surface(ids: vec4u) -> bool {
     return ids.y != NO_OBJECT && !is_emissive(load_material(ids.x));
 }
 
+// What a pixel shows before any light falls on it, its material `m`
+// (material 0 on a miss): an emitter's emission, the background on a
+// miss, else black. The albedo pass and a graph's first light pass seed
+// `lit` with it.
+fn unlit_radiance(m: Material, miss: bool) -> vec3f {
+    return select(select(vec3f(0.0), m.emission, is_emissive(m)), frame.background, miss);
+}
+
+// The diffuse share of a lit surface's albedo (the specular share is the
+// reflections pass's to shade). The light passes take it from the
+// material, not from an albedo pass's texture, which holds the same for a
+// lit surface: a load from the small material table costs no more than one
+// from a full-screen texture.
+fn diffuse_albedo(m: Material) -> vec3f {
+    return m.albedo * (1.0 - m.specular);
+}
+
 // The layout of scene_origins (mirrors src/scene/origins.rs): ORIGIN_ROWS
 // rows of edge planes (three texels a triangle slot), the camera's and
 // light 0's, then an occluder list for each of the first OCCLUDER_LIGHTS
