@@ -52,6 +52,8 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
     let dir = scratch("bvh-vs-brute");
     let obj = dir.join("soup.obj");
     std::fs::write(&obj, random_soup(3000, 7)).expect("write soup");
+    let room = dir.join("room.obj");
+    std::fs::write(&room, random_room(2000, 5)).expect("write room");
     let soup_with = |spheres: &str| soup_scene(&obj, spheres);
     let spheres = r#"Sphere(center: (0.2, 0.1, 0.3), radius: 0.25, material: "grey"),
                      Sphere(center: (-0.4, -0.3, -0.2), radius: 0.3, material: "grey")"#;
@@ -61,6 +63,9 @@ fn gpu_bvh_matches_brute_force_bit_for_bit() {
         ("cornell, flat: primary rays by the written-out sweep", Some(std::fs::read_to_string(repo().join("scenes/cornell.ron")).expect("read cornell")), Traversal::Engine),
         ("soup alone, from its BLAS", Some(soup_with("")), Traversal::OneMesh(true)),
         ("soup alone, through the TLAS", Some(soup_with("")), Traversal::OneMesh(false)),
+        // Its camera inside the soup's box: primary rays start from the
+        // camera's entries (src/bvh/entry.rs).
+        ("a room of small triangles, camera inside it", Some(soup_scene_at(&room, "", INSIDE)), Traversal::OneMesh(true)),
         ("moving-lights", None, Traversal::Engine),
     ];
     for (name, text, traversal) in cases {
@@ -158,9 +163,17 @@ fn bench_rays(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, size: (u32, u32
 /// A scene of the OBJ `obj` in grey, seen from (0.3, 0.2, 3), with the
 /// objects `more` (RON, may be empty) beside it.
 fn soup_scene(obj: &std::path::Path, more: &str) -> String {
+    soup_scene_at(obj, more, "position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0")
+}
+
+/// A camera inside `random_soup`'s box, looking across it.
+const INSIDE: &str = "position: (0.1, 0.05, 0.2), target: (1.0, -0.2, -0.6), vfov_deg: 60.0";
+
+/// `soup_scene` seen from `camera` (its position and target in RON).
+fn soup_scene_at(obj: &std::path::Path, more: &str, camera: &str) -> String {
     format!(
         r#"Scene(
-            camera: Camera(position: (0.3, 0.2, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 45.0),
+            camera: Camera({camera}),
             materials: {{ "grey": Material(albedo: (0.5, 0.5, 0.5)) }},
             objects: [ Mesh(path: "{}", material: "grey"), {more} ],
         )"#,
@@ -183,6 +196,46 @@ fn random_soup(n: usize, seed: u64) -> String {
             text += &format!("v {} {} {}\n", c[0] + size * next(), c[1] + size * next(), c[2] + size * next());
         }
         text += &format!("f {} {} {}\n", 3 * i + 1, 3 * i + 2, 3 * i + 3);
+    }
+    text
+}
+
+/// The camera inside the room has entries, so the case above tests them.
+#[test]
+fn a_camera_inside_the_room_has_entries() {
+    let dir = scratch("room-entries");
+    let obj = dir.join("room.obj");
+    std::fs::write(&obj, random_room(2000, 5)).expect("write room");
+    let scene = scene_from(&soup_scene_at(&obj, "", INSIDE));
+    let mut data = scene.pack();
+    glint::bvh::scene::SceneBvh::default().update(&mut data);
+    let camera = glam::Vec3::new(0.1, 0.05, 0.2);
+    let cut = glint::bvh::entry::camera_cut(&data.bvh, data.instances[0].index, camera).expect("the camera inside the room has a cut");
+    assert!(cut.len() >= 4, "{} entries", cut.len());
+}
+
+/// The six walls of the box [-2, 2]^3 as two triangles each, and `n`
+/// small random triangles inside it (clutter), as OBJ text.
+fn random_room(n: usize, seed: u64) -> String {
+    let mut text = String::new();
+    for i in 0..8 {
+        let c = |bit: usize| if i & bit == 0 { -2.0 } else { 2.0 };
+        text += &format!("v {} {} {}\n", c(1), c(2), c(4));
+    }
+    for [a, b, c, d] in [[1, 2, 4, 3], [5, 6, 8, 7], [1, 2, 6, 5], [3, 4, 8, 7], [1, 3, 7, 5], [2, 4, 8, 6]] {
+        text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+    }
+    let mut state = seed;
+    let mut next = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((state >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    };
+    for i in 0..n {
+        let c = [1.8 * next(), 1.8 * next(), 1.8 * next()];
+        for _ in 0..3 {
+            text += &format!("v {} {} {}\n", c[0] + 0.06 * next(), c[1] + 0.06 * next(), c[2] + 0.06 * next());
+        }
+        text += &format!("f {} {} {}\n", 9 + 3 * i, 10 + 3 * i, 11 + 3 * i);
     }
     text
 }

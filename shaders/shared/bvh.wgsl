@@ -32,6 +32,19 @@ struct Instance {
 
 @group(1) @binding(7) var scene_instances: texture_storage_2d<rgba32uint, read>;
 
+// Where the camera's rays enter the BLAS of a one-mesh scene (mirrors
+// src/bvh/entry.rs): `count.x` entries of two texels, (bmin, node_ref)
+// and (bmax, node index), the one nearest the camera last. None (count 0)
+// where the camera is outside the mesh's box or the scene is not one mesh.
+// A uniform: every lane reads the same entry at once, which lavapipe loads
+// once for all of them.
+const MAX_CAMERA_ENTRIES: u32 = 32u;
+struct CameraEntries {
+    count: vec4u,
+    entries: array<vec4u, 64>,
+}
+@group(1) @binding(11) var<uniform> scene_entries: CameraEntries;
+
 // The texel of node 0 in scene_geometry.
 fn node_texel_base() -> u32 {
     return 3u * frame.n_triangles;

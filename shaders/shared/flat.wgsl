@@ -109,6 +109,17 @@ fn closest_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Closest {
     return Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv);
 }
 
+// closest_primary for the ray from the camera (frame.camera.origin) along
+// rd, which on scenes that are not flat may start from the camera's
+// entries (traverse_camera). The same hits.
+fn closest_camera(rd: vec3f, tmax: f32) -> Closest {
+    let ro = frame.camera.origin;
+    if BRUTE_FORCE || !FLAT_SCENE {
+        return traverse_camera(make_ray(ro, rd), tmax);
+    }
+    return closest_primary(ro, rd, tmax);
+}
+
 // A ray's closest hit and a shadow ray's verdict, traced together.
 struct PairHit {
     hit: Hit,

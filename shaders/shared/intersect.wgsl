@@ -323,14 +323,39 @@ var<private> trips_triangle: u32;
 // indexed private memory is expensive there too).
 
 // Traverses the BLAS at `root` (its box already hit) into `best`; true
-// when any_hit and something was hit (stop).
-fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
+// when any_hit and something was hit (stop). `from_camera`: the ray starts
+// at the camera, and the traversal starts from the camera's entries
+// (scene_entries) where the engine gave some: every camera ray would
+// otherwise walk the same nodes around the camera first (inside Sponza
+// 17 of its 49.4 node trips). Any cut of the tree gives the same hits.
+fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>, from_camera: bool) -> bool {
     let node_base = node_texel_base();
     // The node in hand as a packed reference (node_ref): what a visit
     // needs is in the parent's child texels, so no step reloads a node.
     var current = node_ref(load_node(root));
     var have_current = true;
     var sp = 0u;
+    let entries = min(select(0u, scene_entries.count.x, from_camera), MAX_CAMERA_ENTRIES);
+    if entries > 0u {
+        // The entries whose boxes the ray hits go on the stack, the last
+        // on top: the loop below starts by popping it. Nothing of this
+        // runs in the loop: a test there would cost every trip of every
+        // ray (the knot's shadow rays 1.03-1.06x the time with one).
+        have_current = false;
+        var e = 0u;
+        loop {
+            let lo = bitcast<vec4f>(scene_entries.entries[2u * e]);
+            let hi = bitcast<vec4f>(scene_entries.entries[2u * e + 1u]);
+            stack[sp] = bitcast<u32>(lo.w);
+            if hit_box(r, lo.xyz, hi.xyz, tmax) >= 0.0 {
+                sp += 1u;
+            }
+            continuing {
+                e++;
+                break if e >= entries;
+            }
+        }
+    }
     // Triangles of the leaf reached still to test, one per step.
     var tri = 0u;
     var tri_end = 0u;
@@ -414,6 +439,16 @@ fn traceable(r: Ray) -> bool {
 
 // Traverses the scene. any_hit: stop at the first hit (shadow rays).
 fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
+    return traverse_from(r, tmax, any_hit, false);
+}
+
+// `traverse` for the closest hit of a ray that starts at the camera
+// (frame.camera.origin), which may start from the camera's entries.
+fn traverse_camera(r: Ray, tmax: f32) -> Closest {
+    return traverse_from(r, tmax, false, true);
+}
+
+fn traverse_from(r: Ray, tmax: f32, any_hit: bool, from_camera: bool) -> Closest {
     if !traceable(r) {
         return Closest(tmax, NO_HIT, vec2f(0.0));
     }
@@ -430,7 +465,7 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     if ONE_MESH {
         // No root box test: the BLAS tests its root's children first thing,
         // inside the mesh's box, so the hits are the same.
-        traverse_blas(r, load_instance(0u).v.y, tmax, any_hit, &best);
+        traverse_blas(r, load_instance(0u).v.y, tmax, any_hit, &best, from_camera);
         return best;
     }
     let root = load_node(0);
@@ -456,7 +491,7 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
                 // A constant where the scene has instances of one kind.
                 let is_mesh = SCENE_MESHES && (!SCENE_SPHERES || inst.v.x == INSTANCE_MESH);
                 if is_mesh {
-                    if traverse_blas(r, inst.v.y, tmax, any_hit, &best) {
+                    if traverse_blas(r, inst.v.y, tmax, any_hit, &best, false) {
                         return best;
                     }
                 } else if test_sphere(r, inst.v.y, tmax, any_hit, &best) {
@@ -498,6 +533,13 @@ fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
 // The closest hit along a unit-length ray in (0, tmax).
 fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     return closest_hit(traverse(make_ray(ro, rd), tmax, false), ro, rd, tmax);
+}
+
+// trace_closest for a ray from the camera (frame.camera.origin), which may
+// start from the camera's entries (traverse_camera). The same hits.
+fn trace_closest_from_camera(rd: vec3f, tmax: f32) -> Hit {
+    let ro = frame.camera.origin;
+    return closest_hit(traverse_camera(make_ray(ro, rd), tmax), ro, rd, tmax);
 }
 
 // The Hit for traversal's closest primitive along ro + t rd.

@@ -74,7 +74,7 @@ fn origin_sweep(row: u32, d: vec3f, tmax: f32, best: ptr<function, Closest>) {
 fn trace_camera(rd: vec3f, tmax: f32) -> Hit {
     let ro = frame.camera.origin;
     if BRUTE_FORCE || !FLAT_SCENE {
-        return trace_closest(ro, rd, tmax);
+        return trace_closest_from_camera(rd, tmax);
     }
     let r = plain_ray(ro, rd);
     var best = flat_sphere_sweep(r, tmax);

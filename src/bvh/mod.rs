@@ -5,6 +5,7 @@
 
 pub mod aabb;
 pub mod build;
+pub mod entry;
 pub mod offset;
 pub mod origin;
 pub mod ray;

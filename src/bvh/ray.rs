@@ -231,6 +231,18 @@ impl Geometry<'_> {
         best
     }
 
+    /// `closest` with the traversal started from `entries` (node indices,
+    /// the last tested first) instead of the root: a camera ray starting
+    /// from the camera's cut of a BLAS (`crate::bvh::entry`).
+    pub fn closest_from(&self, r: &Ray, tmax: f32, entries: &[u32]) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.traverse_from(r, tmax, Some(entries), |g, kind, i, b| {
+            g.test(r, kind, i, b, tmax);
+            false
+        }, &mut best);
+        best
+    }
+
     /// Whether anything is hit in (0, tmax) (shadow rays; stops at the first).
     pub fn any(&self, r: &Ray, tmax: f32) -> bool {
         let mut best: Option<Hit> = None;
@@ -243,21 +255,37 @@ impl Geometry<'_> {
 
     /// Stack traversal, nearer child first. `visit(kind, index)` tests a
     /// sphere (kind 0) or triangle (kind 1) and returns true to stop.
-    fn traverse(
+    fn traverse(&self, r: &Ray, tmax: f32, visit: impl FnMut(&Self, u32, u32, &mut Option<Hit>) -> bool, best: &mut Option<Hit>) {
+        self.traverse_from(r, tmax, None, visit, best);
+    }
+
+    /// `traverse` from the root (`entries` None) or from the nodes listed,
+    /// each pushed if its box is hit, in order (the last on top).
+    fn traverse_from(
         &self,
         r: &Ray,
         tmax: f32,
+        entries: Option<&[u32]>,
         mut visit: impl FnMut(&Self, u32, u32, &mut Option<Hit>) -> bool,
         best: &mut Option<Hit>,
     ) {
         // NaN, infinite and zero rays miss (a zero direction is parallel to
         // every slab and would keep every box).
         let finite = r.o.is_finite() && r.d.is_finite() && r.d != Vec3::ZERO;
-        let Some(root) = self.nodes.first().filter(|_| finite) else { return };
-        let Some(t_root) = hit_box(r, root.bounds().min, root.bounds().max, tmax) else { return };
+        if self.nodes.is_empty() || !finite {
+            return;
+        }
         let mut stack = [(0u32, 0.0f32); STACK];
-        stack[0] = (0, t_root);
-        let mut sp = 1;
+        let mut sp = 0;
+        for &i in entries.unwrap_or(&[0]) {
+            let node = self.nodes[i as usize];
+            if let Some(t) = hit_box(r, node.bounds().min, node.bounds().max, tmax) {
+                if sp < STACK {
+                    stack[sp] = (i, t);
+                    sp += 1;
+                }
+            }
+        }
         while sp > 0 {
             sp -= 1;
             let (index, t_near) = stack[sp];

@@ -39,10 +39,13 @@ pub enum EngineResource {
     /// A flat scene's triangles and spheres in a uniform buffer
     /// (`crate::scene::flat_uniform`).
     Flat,
+    /// Where the camera's rays enter a one-mesh scene's BLAS, a uniform
+    /// (`crate::bvh::entry`).
+    Entries,
 }
 
 impl EngineResource {
-    pub const ALL: [EngineResource; 10] = [
+    pub const ALL: [EngineResource; 11] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Geometry,
@@ -53,6 +56,7 @@ impl EngineResource {
         EngineResource::Instances,
         EngineResource::Origins,
         EngineResource::Flat,
+        EngineResource::Entries,
     ];
 
     pub fn name(self) -> &'static str {
@@ -67,6 +71,7 @@ impl EngineResource {
             EngineResource::Instances => "scene_instances",
             EngineResource::Origins => "scene_origins",
             EngineResource::Flat => "scene_flat",
+            EngineResource::Entries => "scene_entries",
         }
     }
 
@@ -78,7 +83,7 @@ impl EngineResource {
     /// textures (`src/scene/buffers.rs` says why).
     pub fn kind(self) -> EngineKind {
         match self {
-            EngineResource::Frame | EngineResource::Flat => EngineKind::Uniform,
+            EngineResource::Frame | EngineResource::Flat | EngineResource::Entries => EngineKind::Uniform,
             EngineResource::Spheres
             | EngineResource::Geometry
             | EngineResource::Normals

@@ -27,6 +27,7 @@ use wgpu::util::DeviceExt;
 
 use glam::Vec3;
 
+use crate::bvh::entry::{camera_cut, camera_entries, CameraEntriesGpu};
 use crate::scene::flat_uniform::flat_uniform;
 use crate::scene::origins::{origin_table, Viewpoints};
 use crate::scene::SceneData;
@@ -180,6 +181,13 @@ pub struct SceneBuffers {
     pub flat: wgpu::Buffer,
     flat_bytes: Vec<u8>,
     origin_table: Vec<[u32; 4]>,
+    /// Where the camera's rays enter a one-mesh scene's BLAS
+    /// (`crate::bvh::entry`), and what was last written to it.
+    pub entries: wgpu::Buffer,
+    entries_gpu: CameraEntriesGpu,
+    /// Whether camera rays start from the camera's cut of the BLAS (tests
+    /// turn it off to compare: the hits are the same).
+    pub camera_entries: bool,
     /// Whether the occluder lists leave out the triangles that cannot
     /// shadow their light (tests turn it off to compare).
     pub cull_occluders: bool,
@@ -217,6 +225,13 @@ impl SceneBuffers {
                 contents: &flat_bytes,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             }),
+            entries: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene_entries"),
+                contents: bytemuck::bytes_of(&CameraEntriesGpu::default()),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            }),
+            entries_gpu: CameraEntriesGpu::default(),
+            camera_entries: true,
             flat_bytes,
             origin_table,
             cull_occluders: true,
@@ -283,6 +298,23 @@ impl SceneBuffers {
         let table = origin_table(&self.data, view, self.cull_occluders);
         self.origins.write_changes(queue, 0, bytemuck::cast_slice(&self.origin_table), bytemuck::cast_slice(&table));
         self.origin_table = table;
+        let entries = self.camera_entries(view.camera);
+        if entries != self.entries_gpu {
+            queue.write_buffer(&self.entries, 0, bytemuck::bytes_of(&entries));
+            self.entries_gpu = entries;
+        }
+    }
+
+    /// The camera's cut of the BLAS of a one-mesh scene that is not flat
+    /// (the scenes whose rays start at that BLAS: `ONE_MESH`); none
+    /// elsewhere, or with `camera_entries` off.
+    fn camera_entries(&self, camera: Vec3) -> CameraEntriesGpu {
+        let d = &self.data;
+        if !self.camera_entries || d.is_flat() || !is_one_mesh(d) {
+            return CameraEntriesGpu::default();
+        }
+        let cut = camera_cut(&d.bvh, d.instances[0].index, camera);
+        camera_entries(&d.bvh, cut.as_deref())
     }
 
     /// Whether rays test every primitive instead of walking the BVH (the

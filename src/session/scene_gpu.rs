@@ -161,6 +161,7 @@ impl SceneGpu {
             EngineResource::Lights => wgpu::BindingResource::TextureView(b.lights.view()),
             EngineResource::Origins => wgpu::BindingResource::TextureView(b.origins.view()),
             EngineResource::Flat => b.flat.as_entire_binding(),
+            EngineResource::Entries => b.entries.as_entire_binding(),
         }
     }
 }
