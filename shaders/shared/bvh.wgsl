@@ -36,8 +36,6 @@ struct Instance {
 // src/bvh/entry.rs): `count.x` entries of two texels, (bmin, node_ref)
 // and (bmax, node index), the one nearest the camera last. None (count 0)
 // where the camera is outside the mesh's box or the scene is not one mesh.
-// A uniform: every lane reads the same entry at once, which lavapipe loads
-// once for all of them.
 const MAX_CAMERA_ENTRIES: u32 = 32u;
 struct CameraEntries {
     count: vec4u,
