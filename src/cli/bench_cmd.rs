@@ -271,11 +271,8 @@ fn print_vs(wall: &[Vec<f64>], vs: &[Vec<f64>]) {
         out!("vs_{name}_ms_wall={:.3}", median(&vs[i]));
         let fastest = vs[i].iter().copied().fold(f64::INFINITY, f64::min);
         out!("vs_{name}_ms_wall_min={fastest:.3}");
-        let ratios: Vec<f64> = wall[i].iter().zip(&vs[i]).map(|(a, b)| a / b).collect();
-        if !ratios.is_empty() {
-            let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            out!("{name}_over_vs={:.3} (runs {lo:.3}-{hi:.3})", median(&ratios));
+        if let Some((ratio, lo, hi)) = crate::metrics::paired_ratios(&wall[i], &vs[i]) {
+            out!("{name}_over_vs={ratio:.3} (runs {lo:.3}-{hi:.3})");
         }
     }
 }

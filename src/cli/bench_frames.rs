@@ -12,7 +12,7 @@ use clap::Args;
 use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
-use crate::metrics::median;
+use crate::metrics::{median, paired_ratios};
 use crate::session::frame_loop::{Clock, FrameLoop};
 use crate::session::{check_size, Session, SessionOptions};
 
@@ -97,11 +97,7 @@ pub fn run(args: FramesArgs) -> Result<(), UserError> {
 
 /// Both sides' medians and the median of the per-frame ratios.
 fn print_ratio(name: &str, a: &[f64], b: &[f64]) {
-    if a.is_empty() || b.is_empty() {
-        return;
+    if let Some((ratio, lo, hi)) = paired_ratios(a, b) {
+        out!("{name}_ms={:.3} vs {:.3}; {name}_over_vs={ratio:.3} (frames {lo:.3}-{hi:.3})", median(a), median(b));
     }
-    let ratios: Vec<f64> = a.iter().zip(b).map(|(x, y)| x / y).collect();
-    let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    out!("{name}_ms={:.3} vs {:.3}; {name}_over_vs={:.3} (frames {lo:.3}-{hi:.3})", median(a), median(b), median(&ratios));
 }

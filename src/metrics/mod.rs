@@ -121,9 +121,29 @@ pub fn median(values: &[f64]) -> f64 {
     if v.len() % 2 == 1 { v[m] } else { 0.5 * (v[m - 1] + v[m]) }
 }
 
+/// Runs of A and B timed in turn, pair by pair: the median of the ratios
+/// a / b and their range; None without a pair.
+pub fn paired_ratios(a: &[f64], b: &[f64]) -> Option<(f64, f64, f64)> {
+    let ratios: Vec<f64> = a.iter().zip(b).map(|(x, y)| x / y).collect();
+    if ratios.is_empty() {
+        return None;
+    }
+    let lo = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    Some((median(&ratios), lo, hi))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn paired_ratios_take_the_median_and_range_pair_by_pair() {
+        assert_eq!(paired_ratios(&[2.0, 3.0, 8.0], &[1.0, 3.0, 4.0]), Some((2.0, 1.0, 2.0)));
+        // Pairs only: the longer side's extra runs are left out.
+        assert_eq!(paired_ratios(&[1.0, 9.0], &[2.0]), Some((0.5, 0.5, 0.5)));
+        assert_eq!(paired_ratios(&[], &[1.0]), None);
+    }
 
     #[test]
     fn median_odd_even() {
