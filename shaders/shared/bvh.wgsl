@@ -34,7 +34,8 @@ struct Instance {
 
 // Where the camera's rays enter the BLAS of a one-mesh scene (mirrors
 // src/bvh/entry.rs): `count.x` entries of two texels, (bmin, node_ref)
-// and (bmax, node index), the one nearest the camera last. None (count 0)
+// and (bmax, node index), pushed in order (the last is popped first, as
+// a traversal from the root would reach it first). None (count 0)
 // where the camera is outside the mesh's box or the scene is not one mesh.
 const MAX_CAMERA_ENTRIES: u32 = 32u;
 struct CameraEntries {

@@ -30,8 +30,9 @@ pub const MAX_CAMERA_ENTRIES: usize = 32;
 /// `count[0]`, then per entry two texels as a BLAS node has them, (bmin,
 /// node reference) and (bmax, node index), the reference packed as the
 /// traversal packs it (`node_ref`: first child or triangle, and the leaf's
-/// triangle count in the top three bits). Pushed in this order: the entry
-/// nearest the camera last, so it is popped first.
+/// triangle count in the top three bits). Pushed in this order (the
+/// reverse of the order a traversal from the root reaches them: see
+/// `camera_cut`), so the last is popped first.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CameraEntriesGpu {

@@ -185,9 +185,6 @@ pub struct SceneBuffers {
     /// (`crate::bvh::entry`), and what was last written to it.
     pub entries: wgpu::Buffer,
     entries_gpu: CameraEntriesGpu,
-    /// Whether camera rays start from the camera's cut of the BLAS (tests
-    /// turn it off to compare: the hits are the same).
-    pub camera_entries: bool,
     /// Whether the occluder lists leave out the triangles that cannot
     /// shadow their light (tests turn it off to compare).
     pub cull_occluders: bool,
@@ -231,7 +228,6 @@ impl SceneBuffers {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             }),
             entries_gpu: CameraEntriesGpu::default(),
-            camera_entries: true,
             flat_bytes,
             origin_table,
             cull_occluders: true,
@@ -307,10 +303,10 @@ impl SceneBuffers {
 
     /// The camera's cut of the BLAS of a one-mesh scene that is not flat
     /// (the scenes whose rays start at that BLAS: `ONE_MESH`); none
-    /// elsewhere, or with `camera_entries` off.
+    /// elsewhere.
     fn camera_entries(&self, camera: Vec3) -> CameraEntriesGpu {
         let d = &self.data;
-        if !self.camera_entries || d.is_flat() || !is_one_mesh(d) {
+        if d.is_flat() || !is_one_mesh(d) {
             return CameraEntriesGpu::default();
         }
         let cut = camera_cut(&d.bvh, d.instances[0].index, camera);
