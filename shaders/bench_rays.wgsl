@@ -24,7 +24,7 @@ const INF: f32 = 3.0e38;
 // normals `primary` makes of it. The primitive as a number, not as bits
 // (a driver may flush the denormals small ids would be): triangle i as i
 // (exact below 2^24), sphere i as -1 - i. On a miss (-1, 0, 0, 0). The
-// same traversal as `primary` (closest_camera), so the same distances.
+// same traversal as `primary` (closest_pixel), so the same distances.
 @compute @workgroup_size(64, 1)
 fn query() {
     var cursor = PoolCursor();
@@ -41,7 +41,7 @@ fn query() {
 
 fn query_texel(id: vec2u) {
     let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
-    let c = closest_camera(rd, INF);
+    let c = closest_pixel(id, rd, INF);
     let found = c.prim != NO_HIT;
     let sphere = (c.prim & SPHERE_BIT) != 0u;
     let prim = select(f32(c.prim), -1.0 - f32(c.prim & ~SPHERE_BIT), sphere);
@@ -68,7 +68,7 @@ fn primary_texel(id: vec2u) {
     trips_node = 0u;
     trips_triangle = 0u;
     let rd = camera_dir(frame.camera, id.xy, vec2f(0.5));
-    let hit = closest_hit(closest_camera(rd, INF), frame.camera.origin, rd, INF);
+    let hit = closest_hit(closest_pixel(id.xy, rd, INF), frame.camera.origin, rd, INF);
     let found = hit_found(hit);
     let n = select(hit.geo_normal, -hit.geo_normal, dot(hit.geo_normal, rd) > 0.0);
     // One store per texture, hit or miss: CPU drivers run both sides of a

@@ -27,7 +27,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         jitter = rand2(&rng);
     }
     let rd = camera_dir(frame.camera, id.xy, jitter);
-    let hit = trace_camera(rd, 3.0e38);
+    let hit = trace_camera_pixel(id.xy, rd, 3.0e38);
     let found = hit_found(hit);
     // One store per texture, hit or miss: CPU drivers run both sides of a
     // branch under a lane mask, so a store on each side costs two.

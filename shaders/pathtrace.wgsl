@@ -63,7 +63,7 @@ fn render(id: vec3u, groups: vec3u) {
     var s = 0u;
     var sum = vec3f(0.0);
     var st = new_path(frame.camera.origin, camera_dir(frame.camera, pixel, rand2(&rng)));
-    var hit = trace_closest_from_camera(st.rd, 3.0e38);
+    var hit = trace_closest_through(pixel, st.rd, 3.0e38);
     path_primary_pos = vec4f(0.0);
     path_primary_normal = vec4f(0.0);
     loop {

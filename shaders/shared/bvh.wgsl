@@ -37,12 +37,23 @@ struct Instance {
 // and (bmax, node index), pushed in order (the last is popped first, as
 // a traversal from the root would reach it first). None (count 0)
 // where the camera is outside the mesh's box or the scene is not one mesh.
+// `count.y` and `count.z`: the tile table's tile size (log2; 0: no
+// table) and tiles across.
 const MAX_CAMERA_ENTRIES: u32 = 32u;
 struct CameraEntries {
     count: vec4u,
     entries: array<vec4u, 64>,
 }
 @group(1) @binding(11) var<uniform> scene_entries: CameraEntries;
+
+// Where the camera rays through each screen tile enter that BLAS (mirrors
+// src/bvh/tiles.rs): tile t (row-major) at texel t * TILE_TEXELS, its
+// entry count, then its entries as above. They serve only camera rays
+// through the tile's own pixels: subtrees outside its frustum are left out.
+const MAX_TILES: u32 = 4096u;
+const TILE_TEXELS: u32 = 32u;
+const MAX_TILE_ENTRIES: u32 = 15u;
+@group(1) @binding(12) var scene_tiles: texture_storage_2d<rgba32uint, read>;
 
 // The texel of node 0 in scene_geometry.
 fn node_texel_base() -> u32 {

@@ -88,7 +88,7 @@ fn flat_sweep(r: Ray, tmax: f32) -> Closest {
 }
 
 // trace_closest for a shader's one ray outside any loop or branch (the ray
-// benchmark's primary ray; the G-buffer's takes trace_camera in
+// benchmark's primary ray; the G-buffer's takes trace_camera_pixel in
 // origins.wgsl): flat scenes then take the written-out sweep above, which
 // costs more than the loop anywhere else. The same hits, bit for bit.
 fn trace_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
@@ -109,13 +109,13 @@ fn closest_primary(ro: vec3f, rd: vec3f, tmax: f32) -> Closest {
     return Closest(select(tmax, c.t, ok), select(NO_HIT, c.prim, ok), c.uv);
 }
 
-// closest_primary for the ray from the camera (frame.camera.origin) along
-// rd, which on scenes that are not flat may start from the camera's
-// entries (traverse_camera). The same hits.
-fn closest_camera(rd: vec3f, tmax: f32) -> Closest {
+// closest_primary for the camera ray through `pixel` (rd: camera_dir's,
+// from frame.camera.origin), which on scenes that are not flat may start
+// from the pixel's tile's entries (traverse_pixel). The same hits.
+fn closest_pixel(pixel: vec2u, rd: vec3f, tmax: f32) -> Closest {
     let ro = frame.camera.origin;
     if BRUTE_FORCE || !FLAT_SCENE {
-        return traverse_camera(make_ray(ro, rd), tmax);
+        return traverse_pixel(make_ray(ro, rd), pixel, tmax);
     }
     return closest_primary(ro, rd, tmax);
 }

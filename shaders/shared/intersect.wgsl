@@ -322,30 +322,62 @@ var<private> trips_triangle: u32;
 // only the farther child of a pair goes through the stack (dynamically
 // indexed private memory is expensive there too).
 
+// Where traverse_blas starts (a constant at every call, so each caller's
+// shader keeps one way): at the root; from the camera's entries (a ray
+// from the camera in any direction); from the entries of `pixel`'s screen
+// tile (a camera ray through that pixel, at any sub-pixel offset).
+const ENTER_AT_ROOT: u32 = 0u;
+const ENTER_FROM_CAMERA: u32 = 1u;
+const ENTER_FROM_TILE: u32 = 2u;
+
 // Traverses the BLAS at `root` (its box already hit) into `best`; true
-// when any_hit and something was hit (stop). `from_camera`: the ray starts
-// at the camera, and the traversal starts from the camera's entries
-// (scene_entries) where the engine gave some: every camera ray would
-// otherwise walk the same nodes around the camera first (inside Sponza
-// 17 of its 49.4 node trips). Any cut of the tree gives the same hits.
-fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>, from_camera: bool) -> bool {
+// when any_hit and something was hit (stop). Camera rays (`enter`) start
+// from the camera's entries (scene_entries) or their tile's (scene_tiles)
+// where the engine gave some: every camera ray would otherwise walk the
+// same nodes around the camera first (inside Sponza 17 of its 49.4 node
+// trips), and the rays of a tile mostly the same nodes below them too.
+// Any cut of the tree gives the same hits; a tile's leaves out only what
+// its rays cannot reach.
+fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>, enter: u32, pixel: vec2u) -> bool {
     let node_base = node_texel_base();
     // The node in hand as a packed reference (node_ref): what a visit
     // needs is in the parent's child texels, so no step reloads a node.
     var current = node_ref(load_node(root));
     var have_current = true;
     var sp = 0u;
-    let entries = min(select(0u, scene_entries.count.x, from_camera), MAX_CAMERA_ENTRIES);
+    var entries = 0u;
+    var first_texel = 0u;
+    if enter == ENTER_FROM_CAMERA {
+        entries = min(scene_entries.count.x, MAX_CAMERA_ENTRIES);
+        have_current = entries == 0u;
+    }
+    if enter == ENTER_FROM_TILE {
+        let log2 = scene_entries.count.y;
+        let tile_x = pixel.x >> log2;
+        let tile = (pixel.y >> log2) * scene_entries.count.z + tile_x;
+        if log2 != 0u && tile_x < scene_entries.count.z && tile < MAX_TILES && all(pixel < frame.size) {
+            first_texel = tile * TILE_TEXELS + 1u;
+            entries = min(scene_texel(scene_tiles, first_texel - 1u).x, MAX_TILE_ENTRIES);
+            // No entries: the tile's frustum misses the BLAS.
+            have_current = false;
+        }
+    }
     if entries > 0u {
         // The entries whose boxes the ray hits go on the stack, the last
         // on top: the loop below starts by popping it. Nothing of this
         // runs in the loop: a test there would cost every trip of every
         // ray (the knot's shadow rays 1.06-1.09x the time with one).
-        have_current = false;
         var e = 0u;
         loop {
-            let lo = bitcast<vec4f>(scene_entries.entries[2u * e]);
-            let hi = bitcast<vec4f>(scene_entries.entries[2u * e + 1u]);
+            var lo: vec4f;
+            var hi: vec4f;
+            if enter == ENTER_FROM_TILE {
+                lo = bitcast<vec4f>(scene_texel(scene_tiles, first_texel + 2u * e));
+                hi = bitcast<vec4f>(scene_texel(scene_tiles, first_texel + 2u * e + 1u));
+            } else {
+                lo = bitcast<vec4f>(scene_entries.entries[2u * e]);
+                hi = bitcast<vec4f>(scene_entries.entries[2u * e + 1u]);
+            }
             stack[sp] = bitcast<u32>(lo.w);
             if hit_box(r, lo.xyz, hi.xyz, tmax) >= 0.0 {
                 sp += 1u;
@@ -439,16 +471,22 @@ fn traceable(r: Ray) -> bool {
 
 // Traverses the scene. any_hit: stop at the first hit (shadow rays).
 fn traverse(r: Ray, tmax: f32, any_hit: bool) -> Closest {
-    return traverse_from(r, tmax, any_hit, false);
+    return traverse_from(r, tmax, any_hit, ENTER_AT_ROOT, vec2u(0u));
 }
 
 // `traverse` for the closest hit of a ray that starts at the camera
 // (frame.camera.origin), which may start from the camera's entries.
 fn traverse_camera(r: Ray, tmax: f32) -> Closest {
-    return traverse_from(r, tmax, false, true);
+    return traverse_from(r, tmax, false, ENTER_FROM_CAMERA, vec2u(0u));
 }
 
-fn traverse_from(r: Ray, tmax: f32, any_hit: bool, from_camera: bool) -> Closest {
+// `traverse_camera` for a ray through pixel `pixel` (camera_dir's ray at
+// any sub-pixel offset), which may start from its screen tile's entries.
+fn traverse_pixel(r: Ray, pixel: vec2u, tmax: f32) -> Closest {
+    return traverse_from(r, tmax, false, ENTER_FROM_TILE, pixel);
+}
+
+fn traverse_from(r: Ray, tmax: f32, any_hit: bool, enter: u32, pixel: vec2u) -> Closest {
     if !traceable(r) {
         return Closest(tmax, NO_HIT, vec2f(0.0));
     }
@@ -465,7 +503,7 @@ fn traverse_from(r: Ray, tmax: f32, any_hit: bool, from_camera: bool) -> Closest
     if ONE_MESH {
         // No root box test: the BLAS tests its root's children first thing,
         // inside the mesh's box, so the hits are the same.
-        traverse_blas(r, load_instance(0u).v.y, tmax, any_hit, &best, from_camera);
+        traverse_blas(r, load_instance(0u).v.y, tmax, any_hit, &best, enter, pixel);
         return best;
     }
     let root = load_node(0);
@@ -491,7 +529,7 @@ fn traverse_from(r: Ray, tmax: f32, any_hit: bool, from_camera: bool) -> Closest
                 // A constant where the scene has instances of one kind.
                 let is_mesh = SCENE_MESHES && (!SCENE_SPHERES || inst.v.x == INSTANCE_MESH);
                 if is_mesh {
-                    if traverse_blas(r, inst.v.y, tmax, any_hit, &best, false) {
+                    if traverse_blas(r, inst.v.y, tmax, any_hit, &best, ENTER_AT_ROOT, vec2u(0u)) {
                         return best;
                     }
                 } else if test_sphere(r, inst.v.y, tmax, any_hit, &best) {
@@ -540,6 +578,14 @@ fn trace_closest(ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
 fn trace_closest_from_camera(rd: vec3f, tmax: f32) -> Hit {
     let ro = frame.camera.origin;
     return closest_hit(traverse_camera(make_ray(ro, rd), tmax), ro, rd, tmax);
+}
+
+// trace_closest for the camera ray through `pixel` (rd: camera_dir's, at
+// any sub-pixel offset), which may start from its tile's entries
+// (traverse_pixel). The same hits.
+fn trace_closest_through(pixel: vec2u, rd: vec3f, tmax: f32) -> Hit {
+    let ro = frame.camera.origin;
+    return closest_hit(traverse_pixel(make_ray(ro, rd), pixel, tmax), ro, rd, tmax);
 }
 
 // The Hit for traversal's closest primitive along ro + t rd.

@@ -68,14 +68,29 @@ fn origin_sweep(row: u32, d: vec3f, tmax: f32, best: ptr<function, Closest>) {
 }
 
 // trace_closest from the camera (frame.camera.origin) along the unit
-// direction rd, for a shader's one camera ray outside any loop or branch
-// (the G-buffer's): on flat scenes the sweep above, the same hits as
-// trace_closest up to the rounding of the two triangle tests.
+// direction rd, for a shader's one camera ray outside any loop or branch:
+// on flat scenes the sweep above, the same hits as trace_closest up to the
+// rounding of the two triangle tests.
 fn trace_camera(rd: vec3f, tmax: f32) -> Hit {
-    let ro = frame.camera.origin;
     if BRUTE_FORCE || !FLAT_SCENE {
         return trace_closest_from_camera(rd, tmax);
     }
+    return sweep_camera(rd, tmax);
+}
+
+// trace_camera for the ray through `pixel` (rd: camera_dir's for it, at any
+// sub-pixel offset; the G-buffer's), which may start from the pixel's
+// tile's entries (traverse_pixel) where the scene is not flat.
+fn trace_camera_pixel(pixel: vec2u, rd: vec3f, tmax: f32) -> Hit {
+    if BRUTE_FORCE || !FLAT_SCENE {
+        return trace_closest_through(pixel, rd, tmax);
+    }
+    return sweep_camera(rd, tmax);
+}
+
+// The flat scene's sweep for trace_camera.
+fn sweep_camera(rd: vec3f, tmax: f32) -> Hit {
+    let ro = frame.camera.origin;
     let r = plain_ray(ro, rd);
     var best = flat_sphere_sweep(r, tmax);
     origin_sweep(ORIGIN_CAMERA, rd, tmax, &best);

@@ -50,12 +50,12 @@ impl Default for CameraEntriesGpu {
 /// (`REF_COUNT_SHIFT` in shaders/shared/bvh.wgsl).
 pub const REF_COUNT_SHIFT: u32 = 29;
 
-fn holds(n: &BvhNode, p: Vec3) -> bool {
+pub(crate) fn holds(n: &BvhNode, p: Vec3) -> bool {
     (0..3).all(|k| n.bmin[k] <= p[k] && p[k] <= n.bmax[k])
 }
 
 /// Squared distance from `p` to the node's box (0 inside).
-fn distance2(n: &BvhNode, p: Vec3) -> f32 {
+pub(crate) fn distance2(n: &BvhNode, p: Vec3) -> f32 {
     let lo = Vec3::from(n.bmin) - p;
     let hi = p - Vec3::from(n.bmax);
     lo.max(hi).max(Vec3::ZERO).length_squared()
@@ -113,15 +113,21 @@ pub fn camera_entries(nodes: &[BvhNode], cut: Option<&[u32]>) -> CameraEntriesGp
     let mut gpu = CameraEntriesGpu::zeroed();
     let Some(cut) = cut else { return gpu };
     for (slot, &i) in gpu.entries.iter_mut().zip(cut) {
-        let n = &nodes[i as usize];
-        let node_ref = n.left_first | (n.count << REF_COUNT_SHIFT);
-        let [x, y, z] = n.bmin.map(f32::to_bits);
-        let [u, v, w] = n.bmax.map(f32::to_bits);
-        *slot = [[x, y, z, node_ref], [u, v, w, i]];
+        *slot = entry_texels(nodes, i);
     }
     gpu.count[0] = cut.len().min(MAX_CAMERA_ENTRIES) as u32;
     gpu
 }
 
+/// Node `i` as an entry: (bmin, node reference) and (bmax, node index),
+/// the reference packed as the traversal packs it.
+pub fn entry_texels(nodes: &[BvhNode], i: u32) -> [[u32; 4]; 2] {
+    let n = &nodes[i as usize];
+    let node_ref = n.left_first | (n.count << REF_COUNT_SHIFT);
+    let [x, y, z] = n.bmin.map(f32::to_bits);
+    let [u, v, w] = n.bmax.map(f32::to_bits);
+    [[x, y, z, node_ref], [u, v, w, i]]
+}
+
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

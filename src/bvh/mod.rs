@@ -10,6 +10,7 @@ pub mod offset;
 pub mod origin;
 pub mod ray;
 pub mod scene;
+pub mod tiles;
 #[cfg(test)]
 mod tests;
 

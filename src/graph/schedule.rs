@@ -42,10 +42,13 @@ pub enum EngineResource {
     /// Where the camera's rays enter a one-mesh scene's BLAS, a uniform
     /// (`crate::bvh::entry`).
     Entries,
+    /// Where the camera rays of each screen tile enter it
+    /// (`crate::bvh::tiles`).
+    Tiles,
 }
 
 impl EngineResource {
-    pub const ALL: [EngineResource; 11] = [
+    pub const ALL: [EngineResource; 12] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Geometry,
@@ -57,6 +60,7 @@ impl EngineResource {
         EngineResource::Origins,
         EngineResource::Flat,
         EngineResource::Entries,
+        EngineResource::Tiles,
     ];
 
     pub fn name(self) -> &'static str {
@@ -72,6 +76,7 @@ impl EngineResource {
             EngineResource::Origins => "scene_origins",
             EngineResource::Flat => "scene_flat",
             EngineResource::Entries => "scene_entries",
+            EngineResource::Tiles => "scene_tiles",
         }
     }
 
@@ -89,6 +94,7 @@ impl EngineResource {
             | EngineResource::Normals
             | EngineResource::Instances
             | EngineResource::Origins
+            | EngineResource::Tiles
             | EngineResource::Materials
             | EngineResource::Lights => EngineKind::Texture,
             EngineResource::Meshes => EngineKind::Storage,

@@ -42,6 +42,9 @@ pub const ORIGIN_TABLE_TEXELS: usize = ORIGIN_ROWS * ORIGIN_ROW_TEXELS + OCCLUDE
 pub struct Viewpoints {
     pub camera: Vec3,
     pub probes: Option<(Vec3, Vec3)>,
+    /// The camera's pixels, for the screen tiles' entries
+    /// (`crate::bvh::tiles`); None: no tile table.
+    pub pixels: Option<crate::bvh::tiles::PixelCamera>,
 }
 
 impl Viewpoints {

@@ -4,6 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec3, Vec3};
 
+use crate::bvh::tiles::PixelCamera;
 use crate::scene::Camera;
 
 #[repr(C)]
@@ -43,9 +44,21 @@ impl CameraGpu {
     /// The primary ray direction through pixel `(x, y)` at sub-pixel
     /// offset `(jx, jy)` in [0, 1): the same formula as `camera_ray` in WGSL.
     pub fn ray_dir(&self, x: f32, y: f32, jx: f32, jy: f32, size: (u32, u32)) -> Vec3 {
-        let sx = (2.0 * (x + jx) / size.0 as f32 - 1.0) * self.aspect * self.tan_half_fov;
-        let sy = (1.0 - 2.0 * (y + jy) / size.1 as f32) * self.tan_half_fov;
-        (Vec3::from(self.forward) + sx * Vec3::from(self.right) + sy * Vec3::from(self.up)).normalize()
+        self.pixel_camera(size).dir(x + jx, y + jy)
+    }
+
+    /// What maps a pixel of a `size` image to its ray (the screen tiles'
+    /// frusta are made of it: `crate::bvh::tiles`).
+    pub fn pixel_camera(&self, size: (u32, u32)) -> PixelCamera {
+        PixelCamera {
+            origin: Vec3::from(self.origin),
+            forward: Vec3::from(self.forward),
+            right: Vec3::from(self.right),
+            up: Vec3::from(self.up),
+            tan_half_fov: self.tan_half_fov,
+            aspect: self.aspect,
+            size,
+        }
     }
 }
 

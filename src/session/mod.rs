@@ -211,7 +211,7 @@ impl Session {
         let grid = self.scene.probe_grid(self.executor.schedule.probes);
         // DDGI relocates probes up to 0.45 of a cell from their grid points.
         let probes = grid.map(|g| (g.origin - 0.5 * g.spacing, g.position(g.counts - glam::UVec3::ONE) + 0.5 * g.spacing));
-        self.scene.buffers.set_origins(&self.gpu.queue, &Viewpoints { camera: camera.origin.into(), probes });
+        self.scene.buffers.set_origins(&self.gpu.queue, &Viewpoints { camera: camera.origin.into(), probes, pixels: Some(camera.pixel_camera(self.size)) });
         let data = &self.scene.buffers.data;
         let frame = FrameGpu {
             camera,

@@ -162,6 +162,7 @@ impl SceneGpu {
             EngineResource::Origins => wgpu::BindingResource::TextureView(b.origins.view()),
             EngineResource::Flat => b.flat.as_entire_binding(),
             EngineResource::Entries => b.entries.as_entire_binding(),
+            EngineResource::Tiles => wgpu::BindingResource::TextureView(b.tiles.view()),
         }
     }
 }

@@ -12,16 +12,16 @@ use crate::bvh::Aabb;
 use crate::scene::{MeshGpu, SceneData, TriangleGpu};
 
 /// xorshift32, enough for scattering triangles.
-struct Rng(u32);
+pub(crate) struct Rng(pub u32);
 
 impl Rng {
-    fn unit(&mut self) -> f32 {
+    pub fn unit(&mut self) -> f32 {
         self.0 ^= self.0 << 13;
         self.0 ^= self.0 >> 17;
         self.0 ^= self.0 << 5;
         (self.0 >> 8) as f32 / (1u32 << 24) as f32
     }
-    fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
+    pub fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
         lo + (hi - lo) * Vec3::new(self.unit(), self.unit(), self.unit())
     }
 }
@@ -32,7 +32,7 @@ fn tri(a: Vec3, b: Vec3, c: Vec3) -> TriangleGpu {
 
 /// One mesh: the six walls of a 20 x 8 x 12 room as two triangles each,
 /// and `clutter` small triangles scattered inside it.
-fn room(clutter: usize) -> SceneData {
+pub(crate) fn room(clutter: usize) -> SceneData {
     let (lo, hi) = (Vec3::new(-10.0, 0.0, -6.0), Vec3::new(10.0, 8.0, 6.0));
     let corner = |i: usize| Vec3::new(if i & 1 == 0 { lo.x } else { hi.x }, if i & 2 == 0 { lo.y } else { hi.y }, if i & 4 == 0 { lo.z } else { hi.z });
     let mut tris = Vec::new();
@@ -60,7 +60,7 @@ fn room(clutter: usize) -> SceneData {
     data
 }
 
-fn root(data: &SceneData) -> u32 {
+pub(crate) fn root(data: &SceneData) -> u32 {
     assert_eq!(data.instances.len(), 1);
     data.instances[0].index
 }

@@ -19,7 +19,7 @@ fn light(position: [f32; 3], radius: f32) -> LightGpu {
 }
 
 fn view(camera: [f32; 3]) -> Viewpoints {
-    Viewpoints { camera: camera.into(), probes: None }
+    Viewpoints { camera: camera.into(), probes: None, pixels: None }
 }
 
 /// The occluder list of light `i` in `table`.
@@ -76,7 +76,7 @@ fn a_room_around_its_light_shadows_nothing_from_it() {
     let table = origin_table(&data, &view([0.0, 0.0, -3.0]), true);
     assert_eq!(occluders(&table, 0), vec![4, 5]);
     // So does a probe box that reaches through the floor.
-    let probes = Viewpoints { camera: Vec3::new(0.0, 0.0, 3.4), probes: Some((Vec3::splat(-0.8), Vec3::new(0.8, -1.2, 0.8))) };
+    let probes = Viewpoints { camera: Vec3::new(0.0, 0.0, 3.4), probes: Some((Vec3::splat(-0.8), Vec3::new(0.8, -1.2, 0.8))), pixels: None };
     assert_eq!(occluders(&origin_table(&data, &probes, true), 0), vec![0, 1]);
     // Without culling, every triangle.
     let all = origin_table(&data, &view([0.0, 0.0, 3.4]), false);
