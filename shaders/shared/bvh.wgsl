@@ -38,7 +38,8 @@ struct Instance {
 // a traversal from the root would reach it first). None (count 0)
 // where the camera is outside the mesh's box or the scene is not one mesh.
 // `count.y` and `count.z`: the tile table's tile size (log2; 0: no
-// table) and tiles across.
+// table) and tiles across; `count.w`: the BLAS root as a node_ref (where a
+// one-mesh scene's rays start).
 const MAX_CAMERA_ENTRIES: u32 = 32u;
 struct CameraEntries {
     count: vec4u,

@@ -330,7 +330,8 @@ const ENTER_AT_ROOT: u32 = 0u;
 const ENTER_FROM_CAMERA: u32 = 1u;
 const ENTER_FROM_TILE: u32 = 2u;
 
-// Traverses the BLAS at `root` (its box already hit) into `best`; true
+// Traverses the BLAS whose root is `root_ref` (node_ref; its box already
+// hit) into `best`; true
 // when any_hit and something was hit (stop). Camera rays (`enter`) start
 // from the camera's entries (scene_entries) or their tile's (scene_tiles)
 // where the engine gave some: every camera ray would otherwise walk the
@@ -338,11 +339,11 @@ const ENTER_FROM_TILE: u32 = 2u;
 // trips), and the rays of a tile mostly the same nodes below them too.
 // Any cut of the tree gives the same hits; a tile's leaves out only what
 // its rays cannot reach.
-fn traverse_blas(r: Ray, root: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>, enter: u32, pixel: vec2u) -> bool {
+fn traverse_blas(r: Ray, root_ref: u32, tmax: f32, any_hit: bool, best: ptr<function, Closest>, enter: u32, pixel: vec2u) -> bool {
     let node_base = node_texel_base();
     // The node in hand as a packed reference (node_ref): what a visit
     // needs is in the parent's child texels, so no step reloads a node.
-    var current = node_ref(load_node(root));
+    var current = root_ref;
     var have_current = true;
     var sp = 0u;
     var entries = 0u;
@@ -503,7 +504,7 @@ fn traverse_from(r: Ray, tmax: f32, any_hit: bool, enter: u32, pixel: vec2u) -> 
     if ONE_MESH {
         // No root box test: the BLAS tests its root's children first thing,
         // inside the mesh's box, so the hits are the same.
-        traverse_blas(r, load_instance(0u).v.y, tmax, any_hit, &best, enter, pixel);
+        traverse_blas(r, scene_entries.count.w, tmax, any_hit, &best, enter, pixel);
         return best;
     }
     let root = load_node(0);
@@ -529,7 +530,7 @@ fn traverse_from(r: Ray, tmax: f32, any_hit: bool, enter: u32, pixel: vec2u) -> 
                 // A constant where the scene has instances of one kind.
                 let is_mesh = SCENE_MESHES && (!SCENE_SPHERES || inst.v.x == INSTANCE_MESH);
                 if is_mesh {
-                    if traverse_blas(r, inst.v.y, tmax, any_hit, &best, ENTER_AT_ROOT, vec2u(0u)) {
+                    if traverse_blas(r, node_ref(load_node(inst.v.y)), tmax, any_hit, &best, ENTER_AT_ROOT, vec2u(0u)) {
                         return best;
                     }
                 } else if test_sphere(r, inst.v.y, tmax, any_hit, &best) {

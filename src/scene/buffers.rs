@@ -27,7 +27,7 @@ use wgpu::util::DeviceExt;
 
 use glam::Vec3;
 
-use crate::bvh::entry::{camera_cut, camera_entries, CameraEntriesGpu};
+use crate::bvh::entry::{camera_cut, camera_entries, entry_texels, CameraEntriesGpu};
 use crate::bvh::tiles::{tile_table, PixelCamera, MAX_TILES, TILE_TEXELS};
 use crate::scene::flat_uniform::flat_uniform;
 use crate::scene::origins::{origin_table, Viewpoints};
@@ -218,6 +218,7 @@ impl SceneBuffers {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, data: SceneData) -> SceneBuffers {
         let origin_table = origin_table(&data, &Viewpoints { camera: Vec3::ZERO, probes: None, pixels: None }, true);
         let flat_bytes = flat_uniform(&data);
+        let entries_gpu = scene_entries(&data, None);
         // Scenes whose rays never start at one BLAS need no tile table.
         let tile_texels = vec![[0u32; 4]; if !data.is_flat() && is_one_mesh(&data) { MAX_TILES * TILE_TEXELS } else { 1 }];
         SceneBuffers {
@@ -236,10 +237,10 @@ impl SceneBuffers {
             }),
             entries: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("scene_entries"),
-                contents: bytemuck::bytes_of(&CameraEntriesGpu::default()),
+                contents: bytemuck::bytes_of(&entries_gpu),
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             }),
-            entries_gpu: CameraEntriesGpu::default(),
+            entries_gpu,
             tiles: SceneTexture::new(device, queue, "scene_tiles", &tile_texels),
             tile_texels,
             tiles_for: None,
@@ -322,12 +323,7 @@ impl SceneBuffers {
     /// (the scenes whose rays start at that BLAS: `ONE_MESH`); none
     /// elsewhere.
     fn camera_entries(&self, camera: Vec3) -> CameraEntriesGpu {
-        let d = &self.data;
-        if d.is_flat() || !is_one_mesh(d) {
-            return CameraEntriesGpu::default();
-        }
-        let cut = camera_cut(&d.bvh, d.instances[0].index, camera);
-        camera_entries(&d.bvh, cut.as_deref())
+        scene_entries(&self.data, Some(camera))
     }
 
     /// Rebuilds the tile table for `pixels` where the camera or the scene
@@ -363,6 +359,21 @@ impl SceneBuffers {
     pub fn is_one_mesh(&self) -> bool {
         is_one_mesh(&self.data)
     }
+}
+
+/// `scene_entries` for a one-mesh scene that is not flat: the camera's cut
+/// (none without a camera) and the BLAS root's packed reference, where
+/// its rays start (`count[3]`: one uniform load instead of an instance
+/// and a node from the scene textures for every ray). Zero elsewhere.
+fn scene_entries(d: &SceneData, camera: Option<Vec3>) -> CameraEntriesGpu {
+    if d.is_flat() || !is_one_mesh(d) {
+        return CameraEntriesGpu::default();
+    }
+    let root = d.instances[0].index;
+    let cut = camera.and_then(|c| camera_cut(&d.bvh, root, c));
+    let mut gpu = camera_entries(&d.bvh, cut.as_deref());
+    gpu.count[3] = d.bvh.get(root as usize).map_or(0, |_| entry_texels(&d.bvh, root)[0][3]);
+    gpu
 }
 
 fn is_one_mesh(data: &SceneData) -> bool {
