@@ -111,12 +111,13 @@ impl TileFrustum {
 }
 
 /// The cut of the BLAS at `root` for the rays of `frustum`, in push order
-/// (the last is popped first), or None where the cut would not fit
-/// MAX_TILE_ENTRIES (the rays then start from the camera's entries or the
-/// root). Nodes every ray of the frustum enters are expanded while the cut
-/// fits, children taken as `camera_cut` takes them (the one holding the
-/// camera first, else the nearer); subtrees outside the frustum are left
-/// out. Empty where the frustum misses the root's box.
+/// (the last is popped first): at most MAX_TILE_ENTRIES entries, or None
+/// where a node index lies outside `nodes` (`tile_table` then gives the
+/// tile the root as its one entry). Nodes every ray of the frustum enters
+/// are expanded while the cut fits, children taken as `camera_cut` takes
+/// them (the one holding the camera first, else the nearer); subtrees
+/// outside the frustum are left out. Empty where the frustum misses the
+/// root's box.
 pub fn tile_cut(nodes: &[BvhNode], root: u32, frustum: &TileFrustum) -> Option<Vec<u32>> {
     let mut cut: Vec<u32> = Vec::new();
     let mut todo = vec![root];
