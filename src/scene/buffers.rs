@@ -338,10 +338,13 @@ impl SceneBuffers {
         if self.tiles_for != key {
             self.tiles_for = key;
             let table = tile_table(&d.bvh, d.instances[0].index, &pixels);
-            let texels = table.as_ref().map_or_else(|| vec![[0u32; 4]; self.tile_texels.len()], |t| t.texels.clone());
+            let (grid, texels) = match table {
+                Some(t) => ([t.log2, t.tiles_x], t.texels),
+                None => ([0, 0], vec![[0u32; 4]; self.tile_texels.len()]),
+            };
             self.tiles.write_changes(queue, 0, bytemuck::cast_slice(&self.tile_texels), bytemuck::cast_slice(&texels));
             self.tile_texels = texels;
-            self.tile_grid = table.map_or([0, 0], |t| [t.log2, t.tiles_x]);
+            self.tile_grid = grid;
         }
         entries.count[1] = self.tile_grid[0];
         entries.count[2] = self.tile_grid[1];

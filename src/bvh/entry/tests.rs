@@ -65,8 +65,8 @@ pub(crate) fn root(data: &SceneData) -> u32 {
     data.instances[0].index
 }
 
-/// Every leaf under the root lies under exactly one entry.
-fn assert_partition(nodes: &[BvhNode], root: u32, cut: &[u32]) {
+/// How many entries of `cut` each leaf under `root` lies under, by leaf.
+pub(crate) fn entries_above_leaves(nodes: &[BvhNode], root: u32, cut: &[u32]) -> Vec<(u32, u32)> {
     let mut under = vec![0u32; nodes.len()];
     for &e in cut {
         let mut todo = vec![e];
@@ -79,14 +79,23 @@ fn assert_partition(nodes: &[BvhNode], root: u32, cut: &[u32]) {
             }
         }
     }
+    let mut leaves = Vec::new();
     let mut todo = vec![root];
     while let Some(i) = todo.pop() {
         let n = &nodes[i as usize];
         if n.is_leaf() {
-            assert_eq!(under[i as usize], 1, "leaf {i} lies under {} entries", under[i as usize]);
+            leaves.push((i, under[i as usize]));
         } else {
             todo.extend([n.left_first, n.left_first + 1]);
         }
+    }
+    leaves
+}
+
+/// Every leaf under the root lies under exactly one entry.
+fn assert_partition(nodes: &[BvhNode], root: u32, cut: &[u32]) {
+    for (i, n) in entries_above_leaves(nodes, root, cut) {
+        assert_eq!(n, 1, "leaf {i} lies under {n} entries");
     }
 }
 

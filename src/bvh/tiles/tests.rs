@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use super::*;
-use crate::bvh::entry::tests::{room, root, Rng};
+use crate::bvh::entry::tests::{entries_above_leaves, room, root, Rng};
 use crate::bvh::ray::{Geometry, Ray};
 use crate::scene::SceneData;
 
@@ -31,30 +31,11 @@ fn geometry(data: &SceneData) -> Geometry<'_> {
 /// node above them, or they, lie outside it). Panics where a leaf lies
 /// under two entries.
 fn leaves_left_out(nodes: &[BvhNode], root: u32, cut: &[u32]) -> usize {
-    let mut under = vec![0u32; nodes.len()];
-    for &e in cut {
-        let mut todo = vec![e];
-        while let Some(i) = todo.pop() {
-            let n = &nodes[i as usize];
-            if n.is_leaf() {
-                under[i as usize] += 1;
-            } else {
-                todo.extend([n.left_first, n.left_first + 1]);
-            }
-        }
+    let leaves = entries_above_leaves(nodes, root, cut);
+    for &(i, n) in &leaves {
+        assert!(n <= 1, "leaf {i} lies under {n} entries");
     }
-    let mut todo = vec![root];
-    let mut out = 0;
-    while let Some(i) = todo.pop() {
-        let n = &nodes[i as usize];
-        if n.is_leaf() {
-            assert!(under[i as usize] <= 1, "leaf {i} lies under {} entries", under[i as usize]);
-            out += usize::from(under[i as usize] == 0);
-        } else {
-            todo.extend([n.left_first, n.left_first + 1]);
-        }
-    }
-    out
+    leaves.iter().filter(|&&(_, n)| n == 0).count()
 }
 
 #[test]
