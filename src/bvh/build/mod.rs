@@ -3,15 +3,18 @@
 //! primitives for large nodes) and the cheapest plane by the surface area
 //! heuristic is taken; the partition that follows sees every primitive.
 //! Subtrees of up to SMALL_MAX primitives are built by sorting instead (see
-//! `build_small`). Nodes of at most `MAX_LEAF` primitives are leaves:
-//! splitting a handful of triangles saves little traversal (measured on a
-//! 1M-triangle knot: same Mrays/s) and costs a third of the build time and
-//! half the nodes.
+//! `small.rs`, which also decides where leaves of up to `MAX_LEAF`
+//! primitives end).
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec3, Vec3A, Vec4};
 
 use super::Aabb;
+
+mod small;
+use small::{build_small, SmallBuild, SMALL_MAX};
+#[cfg(test)]
+use small::{sah_sweep, sort_by_rank, split_pays};
 
 /// Leaves hold at most this many primitives. The shader packs a BLAS
 /// node's count into the top three bits of a u32 (REF_COUNT_SHIFT in
@@ -19,10 +22,6 @@ use super::Aabb;
 pub const MAX_LEAF: usize = 4;
 const _: () = assert!(MAX_LEAF < 8);
 const BINS: usize = 12;
-/// Nodes of up to this many primitives are split at their centroid median
-/// into two leaves without an SAH search (on a 1M-triangle knot: build
-/// -12%, traversal steps per primary ray +1.2%).
-const MEDIAN_SPLIT_MAX: usize = 2 * MAX_LEAF;
 
 /// `struct BvhNode` in shaders/shared/bvh.wgsl (32 bytes). Interior nodes
 /// have `count == 0` and children at `left_first` and `left_first + 1`;
@@ -183,6 +182,7 @@ impl BvhBuilder {
 
 fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
     let n = prims.len();
+    let policy = SmallBuild::for_mesh(n, max_depth);
     let mut nodes = Vec::with_capacity((2 * n / MAX_LEAF).max(1) + 1);
     let (mut root_bounds, mut root_centroids) = (Box3::EMPTY, Box3::EMPTY);
     for p in prims.iter() {
@@ -202,7 +202,7 @@ fn build_prims(prims: &mut [Prim], max_depth: u32) -> Bvh {
     while let Some(task) = stack.pop() {
         let count = task.end - task.start;
         if count <= SMALL_MAX {
-            build_small(&mut prims[task.start..task.end], task.start, task.node, task.depth, max_depth, &mut nodes, None);
+            build_small(&mut prims[task.start..task.end], task.start, task.node, task.depth, policy, &mut nodes, None);
             continue;
         }
         // More than SMALL_MAX primitives: always split, at the SAH plane, at
@@ -271,117 +271,6 @@ fn centroid_key(p: &Prim, axis: usize) -> i32 {
 fn split_at_median(prims: &mut [Prim], axis: usize) {
     let n = prims.len();
     prims.select_nth_unstable_by_key(n / 2, |p| centroid_key(p, axis));
-}
-
-/// Subtrees of up to this many primitives are built by `build_small`
-/// (32 rather than 16: the same build time within this machine's noise,
-/// SAH cost 69.36 -> 69.28 on the 1M knot).
-const SMALL_MAX: usize = 32;
-
-/// Builds the subtree under `node` (its bounds already set) over `prims`,
-/// at most SMALL_MAX of them, which start at position `first`. Each level
-/// sorts the primitives along the widest centroid axis by rank, without
-/// branches, and takes the exact SAH plane of that order (the centroid
-/// median up to 2 x MAX_LEAF primitives, or when the depth bound is near).
-/// Through the general path, with its bins, partition and task per node,
-/// the nodes under 16 primitives took 30% of a 1M-triangle build, mostly
-/// fixed costs and mispredicted branches.
-fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: u32, max_depth: u32, nodes: &mut Vec<BvhNode>, sorted_along: Option<usize>) {
-    let n = prims.len();
-    if n <= MAX_LEAF {
-        nodes[node].left_first = first as u32;
-        nodes[node].count = n as u32;
-        return;
-    }
-    let mut centroids = Box3::EMPTY;
-    for p in prims.iter() {
-        let s = p.lo() + p.hi();
-        centroids.grow(s, s);
-    }
-    let e = centroids.max - centroids.min;
-    let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
-    // A run of primitives sorted along this axis is already in order (and
-    // in the same order for ties: the sort is stable), so it is sorted
-    // again only when the axis changes.
-    if sorted_along != Some(axis) {
-        sort_by_rank(prims, axis);
-    }
-    let median = n <= MEDIAN_SPLIT_MAX || depth + balanced_levels(n) >= max_depth;
-    let mid = if median { n / 2 } else { sah_sweep(prims) };
-    let left = nodes.len();
-    for side in [&prims[..mid], &prims[mid..]] {
-        let mut b = Box3::EMPTY;
-        for p in side {
-            b.grow(p.lo(), p.hi());
-        }
-        let mut child = BvhNode::zeroed();
-        child.set_bounds(&b.to_aabb());
-        nodes.push(child);
-    }
-    nodes[node].left_first = left as u32;
-    nodes[node].count = 0;
-    let (l, r) = prims.split_at_mut(mid);
-    build_small(l, first, left, depth + 1, max_depth, nodes, Some(axis));
-    build_small(r, first + mid, left + 1, depth + 1, max_depth, nodes, Some(axis));
-}
-
-/// Sorts up to SMALL_MAX primitives by centroid along `axis` (ties by
-/// position): each goes to its rank, counted without branches.
-fn sort_by_rank(prims: &mut [Prim], axis: usize) {
-    let n = prims.len();
-    if n <= MEDIAN_SPLIT_MAX {
-        sort_by_rank_in::<MEDIAN_SPLIT_MAX>(prims, axis);
-    } else if n <= 16 {
-        sort_by_rank_in::<16>(prims, axis);
-    } else {
-        sort_by_rank_in::<SMALL_MAX>(prims, axis);
-    }
-}
-
-/// `sort_by_rank` for up to N primitives.
-#[inline(always)]
-fn sort_by_rank_in<const N: usize>(prims: &mut [Prim], axis: usize) {
-    let n = prims.len();
-    // Padding keys sort after every real one (ties go by position), so
-    // they never count towards a real rank.
-    let mut keys = [i32::MAX; N];
-    for (k, p) in keys.iter_mut().zip(prims.iter()) {
-        *k = centroid_key(p, axis);
-    }
-    // rank[i] = #{j : key j < key i, or equal and j < i}, for all i at
-    // once (the fixed-size inner loop is vectorised).
-    let mut rank = [0i32; N];
-    for (j, &kj) in keys.iter().enumerate().take(n) {
-        for (i, (r, &ki)) in rank.iter_mut().zip(keys.iter()).enumerate() {
-            *r += ((ki > kj) | ((ki == kj) & (i > j))) as i32;
-        }
-    }
-    let mut sorted = [Prim { min: Vec4::ZERO, max: Vec4::ZERO }; N];
-    for (p, &r) in prims.iter().zip(rank.iter()) {
-        sorted[r as usize] = *p;
-    }
-    prims.copy_from_slice(&sorted[..n]);
-}
-
-/// The SAH-cheapest split of sorted primitives: how many go left.
-fn sah_sweep(prims: &[Prim]) -> usize {
-    let n = prims.len();
-    let mut right_area = [0.0f32; SMALL_MAX];
-    let mut acc = Box3::EMPTY;
-    for i in (1..n).rev() {
-        acc.grow(prims[i].lo(), prims[i].hi());
-        right_area[i] = acc.half_area();
-    }
-    let (mut best, mut best_cost) = (n / 2, f32::INFINITY);
-    let mut left = Box3::EMPTY;
-    for i in 1..n {
-        left.grow(prims[i - 1].lo(), prims[i - 1].hi());
-        let cost = left.half_area() * i as f32 + right_area[i] * (n - i) as f32;
-        if cost < best_cost {
-            (best, best_cost) = (i, cost);
-        }
-    }
-    best
 }
 
 /// Bounds and centroid bounds of a run of primitives. Two accumulators

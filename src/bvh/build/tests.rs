@@ -175,3 +175,37 @@ fn refit_follows_moved_primitives() {
     refit(&mut bvh, &b);
     check(&bvh, &b);
 }
+
+fn unit_box_at(x: f32) -> Aabb {
+    Aabb { min: Vec3::new(x, 0.0, 0.0), max: Vec3::new(x + 1.0, 1.0, 1.0) }
+}
+
+#[test]
+fn a_leaf_ends_where_splitting_stops_paying() {
+    // Two pairs of unit boxes far apart: most rays that enter the node's
+    // box enter neither pair, so the split pays; within a pair it does not.
+    let far = [0.0, 1.0, 100.0, 101.0].map(unit_box_at);
+    let bvh = build(&far);
+    check(&bvh, &far);
+    let leaves: Vec<u32> = bvh.nodes.iter().filter(|n| n.is_leaf()).map(|n| n.count).collect();
+    assert_eq!(leaves, [2, 2]);
+    // Overlapping boxes: a ray that enters one mostly enters them all.
+    let near = [0.0, 0.1, 0.2, 0.3].map(unit_box_at);
+    let bvh = build(&near);
+    assert_eq!((bvh.nodes.len(), bvh.nodes[0].count), (1, 4));
+    let nan = Box3 { min: Vec3A::splat(f32::NAN), max: Vec3A::splat(f32::NAN) };
+    assert!(!split_pays(&nan, 2, &nan, 2));
+}
+
+#[test]
+fn meshes_too_big_for_the_cache_keep_leaves_of_up_to_max_leaf() {
+    assert!(SmallBuild::for_mesh(66_453, BLAS_MAX_DEPTH).sah_leaves);
+    let big = SmallBuild::for_mesh(1_000_000, BLAS_MAX_DEPTH);
+    assert!(!big.sah_leaves);
+    // The far pairs above stay one leaf under that policy.
+    let far = [0.0, 1.0, 100.0, 101.0].map(unit_box_at);
+    let mut prims: Vec<Prim> = far.iter().enumerate().map(|(i, b)| Prim::new(b, i as u32)).collect();
+    let mut nodes = vec![BvhNode::zeroed()];
+    build_small(&mut prims, 0, 0, 1, big, &mut nodes, None);
+    assert_eq!((nodes.len(), nodes[0].count), (1, 4));
+}
