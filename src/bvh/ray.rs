@@ -1,4 +1,4 @@
-//! The Rust mirror of shaders/shared/intersect.wgsl and bvh.wgsl: the same
+//! The Rust mirror of shaders/shared/ray.wgsl, intersect.wgsl and bvh.wgsl: the same
 //! ray math in f32, bit for bit, so it can be tested exhaustively on the
 //! CPU (the GPU path is tested too, in tests/). The traversal here is the
 //! plain one (nearer child first, a leaf's triangles at once); the shader
