@@ -11,7 +11,8 @@ use super::{balanced_levels, centroid_key, Box3, BvhNode, Prim, MAX_LEAF};
 /// SAH cost 69.36 -> 69.28 on the 1M knot).
 pub(super) const SMALL_MAX: usize = 32;
 
-/// Meshes of up to this many primitives end their leaves where the SAH
+/// BVHs over up to this many primitives (a mesh's BLAS, or the TLAS by
+/// its count of instances) end their leaves where the SAH
 /// says a split stops paying (`split_pays`), with the SAH plane at every
 /// level: inside Sponza (66k triangles) the busiest lane of 8 took 22.7
 /// BLAS trips a primary ray instead of 25.5, with 1.24x the nodes, and
@@ -32,9 +33,10 @@ const NODE_COST: f32 = 2.0;
 /// primitives are split at their centroid median into two leaves without
 /// an SAH search (on a 1M-triangle knot: build -12%, traversal steps per
 /// primary ray +1.2%).
-pub(super) const MEDIAN_SPLIT_MAX: usize = 2 * MAX_LEAF;
+const MEDIAN_SPLIT_MAX: usize = 2 * MAX_LEAF;
 
-/// How `build_small` ends a mesh's subtrees: chosen once per build.
+/// How `build_small` ends a BVH's subtrees: chosen once per build, from
+/// its primitive count.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct SmallBuild {
     pub max_depth: u32,
