@@ -312,6 +312,9 @@ fn bench_rays_counts_traversal_trips() {
     for pass in ["query", "primary", "shadow", "diffuse"] {
         assert!(out.lines().any(|l| l.starts_with(&format!("{pass}_ms_wall="))), "no {pass}_ms_wall in:\n{out}");
     }
+    // A one-mesh scene takes a tile table: what building it costs is timed.
+    let table = out.lines().find_map(|l| l.strip_prefix("tile_table_ms=")).and_then(|v| v.parse::<f64>().ok());
+    assert!(table.is_some_and(|ms| ms.is_finite() && ms >= 0.0), "no tile_table_ms in:\n{out}");
 }
 
 /// `--vs DIR` times another checkout's bench graph in the same process,

@@ -191,6 +191,18 @@ fn rays(args: RaysArgs) -> Result<(), UserError> {
             record(&mut stamps, t);
         }
     }
+    // What a camera move costs the CPU before its frame: the screen tiles'
+    // cuts (src/bvh/tiles.rs) for this camera, median of `--runs` builds.
+    let table_ms: Vec<f64> = (0..args.runs.max(1))
+        .filter_map(|_| {
+            let start = Instant::now();
+            std::hint::black_box(session.scene.buffers.rebuild_tile_table())?;
+            Some(start.elapsed().as_secs_f64() * 1e3)
+        })
+        .collect();
+    if !table_ms.is_empty() {
+        out!("tile_table_ms={:.2}", median(&table_ms));
+    }
     let out = session.read_output()?;
     let pixels = (args.size.0 * args.size.1) as f64;
     let hits = out.data.iter().filter(|p| p[0].is_finite()).count() as f64;

@@ -28,7 +28,7 @@ use wgpu::util::DeviceExt;
 use glam::Vec3;
 
 use crate::bvh::entry::{camera_cut, camera_entries, entry_texels, CameraEntriesGpu};
-use crate::bvh::tiles::{tile_table, PixelCamera, MAX_TILES, TILE_TEXELS};
+use crate::bvh::tiles::{tile_table, PixelCamera, TileTable, MAX_TILES, TILE_TEXELS};
 use crate::scene::flat_uniform::flat_uniform;
 use crate::scene::origins::{origin_table, Viewpoints};
 use crate::scene::SceneData;
@@ -327,7 +327,7 @@ impl SceneBuffers {
     }
 
     /// Rebuilds the tile table for `pixels` where the camera or the scene
-    /// changed (a Sponza-sized BLAS takes about 13 ms at 1280x720), and
+    /// changed (a Sponza-sized BLAS takes about 8 ms at 1280x720), and
     /// gives `entries` its tile size and row length (none: size 0).
     fn set_tiles(&mut self, queue: &wgpu::Queue, pixels: Option<PixelCamera>, entries: &mut CameraEntriesGpu) {
         let d = &self.data;
@@ -348,6 +348,17 @@ impl SceneBuffers {
         }
         entries.count[1] = self.tile_grid[0];
         entries.count[2] = self.tile_grid[1];
+    }
+
+    /// The tile table for the camera the last frame drew, built again
+    /// (what a camera move costs the CPU: `glint bench rays` times it);
+    /// None where the scene takes no table or no frame was drawn yet.
+    pub fn rebuild_tile_table(&self) -> Option<TileTable> {
+        let (pixels, _) = self.tiles_for?;
+        if self.tile_texels.len() != MAX_TILES * TILE_TEXELS || !is_one_mesh(&self.data) {
+            return None;
+        }
+        tile_table(&self.data.bvh, self.data.instances[0].index, &pixels)
     }
 
     /// Whether rays test every primitive instead of walking the BVH (the
