@@ -173,15 +173,12 @@ fn golden_images_of_every_pass() {
         count += golden_graph(graph, scene, &mut failures);
     }
     count += golden_variant(&repo().join("passes/irradiance.ron"), "cornell.ron", "-ddgi", &["probes.mode=ddgi"], &mut failures);
-    // pathtrace.ron binds the G-buffer but stores none (FIRST_HIT 0, as no
-    // pass of it reprojects): its goldens are of the graph with the first
-    // hit stored, which leaves every other output as it was.
-    let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("read pathtrace.ron");
-    let stored = text.replace("FIRST_HIT: 0", "FIRST_HIT: 1");
-    assert_ne!(stored, text, "pathtrace.ron no longer sets FIRST_HIT: 0");
-    let dir = scratch("golden-first-hit");
-    std::fs::write(dir.join("pathtrace.ron"), stored).expect("write the graph");
-    count += golden_variant(&dir.join("pathtrace.ron"), "cornell.ron", "", &[], &mut failures);
+    // pathtrace.ron stores no G-buffer (no pass of it reprojects): its
+    // goldens are of the graph with the path tracer that also stores the
+    // first hit (pathtrace_gbuffer.wgsl), which leaves every other output
+    // as it was.
+    let stored = pathtrace_with_gbuffer("golden-first-hit");
+    count += golden_variant(&stored, "cornell.ron", "", &[], &mut failures);
     // Debug views: passes that run only when their resource is the output;
     // and the bench's query pass, which nothing in its graph reads (the
     // bench keeps it with `also_compute`).

@@ -143,12 +143,10 @@ fn texels_per_invocation_keep_the_image() {
     for scene_name in ["cornell.ron", "moving-lights.ron"] {
         for output in [None, Some("gbuf_pos"), Some("gbuf_normal")] {
             let options = CompileOptions { output: output.map(str::to_string), ..Default::default() };
-            let mut shipped = compile(&load_scene(scene_name), &graph(), &options);
-            // The shipped graph stores no first hit (FIRST_HIT 0): stored here.
-            for p in shipped.schedule.passes.iter_mut().filter(|p| p.name == "pathtrace" && output.is_some()) {
-                p.constants.retain(|(k, _)| k != "FIRST_HIT");
-                p.constants.push(("FIRST_HIT".into(), 1.0));
-            }
+            // The shipped graph stores no first hit: the G-buffer's comes
+            // from the path tracer that stores it.
+            let path = if output.is_some() { pathtrace_with_gbuffer("texels-first-hit") } else { graph() };
+            let shipped = compile(&load_scene(scene_name), &path, &options);
             let pass = shipped.schedule.passes.iter().find(|p| p.name == "pathtrace").expect("pathtrace pass");
             let texels = if scene_name == "cornell.ron" { 32 } else { 8 };
             assert_eq!(pass.texels_per_invocation, texels, "{scene_name}");

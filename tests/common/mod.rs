@@ -121,3 +121,26 @@ pub fn workspace(name: &str) -> PathBuf {
     }
     std::fs::canonicalize(&dir).expect("canonical scratch dir")
 }
+
+/// passes/pathtrace.ron with the path tracer that also stores the camera
+/// ray's first hit (shaders/pathtrace_gbuffer.wgsl, FIRST_HIT 1) into
+/// `gbuf_pos` and `gbuf_normal`, written to a scratch folder: its path.
+pub fn pathtrace_with_gbuffer(name: &str) -> PathBuf {
+    let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("read pathtrace.ron");
+    let mut stored = text.clone();
+    for (from, to) in [
+        ("shader: \"pathtrace.wgsl\"", "shader: \"pathtrace_gbuffer.wgsl\""),
+        ("FIRST_HIT: 0", "FIRST_HIT: 1"),
+        (
+            "\"radiance\": Texture(format: Rgba32Float),",
+            "\"radiance\": Texture(format: Rgba32Float),\n        \"gbuf_pos\": Texture(format: Rgba32Float),\n        \"gbuf_normal\": Texture(format: Rgba16Float),",
+        ),
+    ] {
+        assert!(stored.contains(from), "pathtrace.ron no longer has `{from}`");
+        stored = stored.replacen(from, to, 1);
+    }
+    let dir = scratch(name);
+    let path = dir.join("pathtrace.ron");
+    std::fs::write(&path, stored).expect("write the graph");
+    path
+}

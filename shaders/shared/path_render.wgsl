@@ -1,0 +1,141 @@
+// The path tracer's passes (thesis 2.4), shared by shaders/pathtrace.wgsl
+// and shaders/pathtrace_gbuffer.wgsl: its params, its radiance output, the
+// `main` and `main_more` entries. The importing shader defines the hook
+// below, which `main` calls once per pixel with the camera ray's first hit
+// (shared/path.wgsl's path_primary_pos / path_primary_normal, kept with
+// FIRST_HIT): pathtrace.wgsl drops it, pathtrace_gbuffer.wgsl stores it
+// as the G-buffer does. So a graph binds the G-buffer only where a pass
+// of it reads one.
+// hook: fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f)
+#import path
+
+struct Params {
+    spp: u32, // ui: 1..64 "samples per pixel"
+    max_depth: u32, // ui: 1..64 limit "max bounces"
+    rr_depth: u32, // ui: 0..16 "roulette from bounce"
+    // Samples already in `radiance` from earlier dispatches this frame: the
+    // engine splits spp across dispatches of at most 8 (drivers bound the
+    // loop iterations of one invocation; src/graph/compile/split.rs).
+    spp_done: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, write>;
+// `radiance` again, for the later dispatches of a split frame (main_more).
+@group(0) @binding(4) var radiance_acc: texture_storage_2d<rgba32float, read_write>;
+
+const SALT: u32 = 0x70617468u;
+
+// The sum of this dispatch's `spp` samples of pixel `id`. Each dispatch of
+// a split frame draws its own random stream (the first one's is what an
+// unsplit frame draws).
+// The first dispatch (`main`) renders several texels per invocation, the
+// graph's `texels_per_invocation`: texels k, k + L, k + 2L, ... in row-major
+// order for invocation k of the L dispatched. Each lane starts its next
+// path as soon as one ends, and traces the new camera ray together with
+// the ended path's last shadow ray. A SIMD group then runs as many bounce
+// trips as its lanes need in all, where with one texel per invocation it
+// ran as many as its longest path needed (on the Cornell box 3.73 trips
+// per group of 8 against 2.66 per path). Each texel's random numbers are
+// its own, so the image is the same whatever the dispatch.
+fn render(id: vec3u, groups: vec3u) {
+    let lanes = groups.x * 64u * groups.y;
+    let n = frame.size.x * frame.size.y;
+    var p = id.y * groups.x * 64u + id.x;
+    if p >= n {
+        return;
+    }
+    let spp = max(params.spp, 1u);
+    let max_depth = params.max_depth;
+    var pixel = vec2u(p % frame.size.x, p / frame.size.x);
+    // The step from one texel of this lane to its next, as a 2D offset:
+    // a SIMD CPU driver divides integers one lane at a time, so the next
+    // pixel is stepped to, not divided out, on every trip.
+    let step = vec2u(lanes % frame.size.x, lanes / frame.size.x);
+    let rng_key = rng_frame_key(frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
+    var rng = rng_at(rng_key, pixel);
+    var s = 0u;
+    var sum = vec3f(0.0);
+    var st = new_path(frame.camera.origin, camera_dir(frame.camera, pixel, rand2(&rng)));
+    var hit = trace_closest_through(pixel, st.rd, 3.0e38);
+    path_primary_pos = vec4f(0.0);
+    path_primary_normal = vec4f(0.0);
+    loop {
+        var b = ended_bounce();
+        if st.depth < max_depth {
+            b = path_bounce(&st, hit, params.rr_depth, true, &rng);
+        }
+        let path_done = b.ended || !b.go_on || st.depth + 1u >= max_depth;
+        let pixel_done = path_done && s + 1u >= spp;
+        let next_p = p + lanes;
+        let lane_done = pixel_done && next_p >= n;
+        var next_pixel = pixel + step;
+        if next_pixel.x >= frame.size.x {
+            next_pixel = vec2u(next_pixel.x - frame.size.x, next_pixel.y + 1u);
+        }
+        // The ray to trace: the path's next, or the next path's camera ray.
+        var ro = b.o;
+        var rd = st.rd;
+        if path_done && !lane_done {
+            if pixel_done {
+                rng = rng_at(rng_key, next_pixel);
+            }
+            ro = frame.camera.origin;
+            rd = camera_dir(frame.camera, select(pixel, next_pixel, pixel_done), rand2(&rng));
+        }
+        let next = trace_pair(ro, rd, !lane_done, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
+        if !next.blocked {
+            st.result += b.shadowed_light;
+        }
+        if path_done {
+            sum += finite_or_zero(st.result);
+            s += 1u;
+            if pixel_done {
+                textureStore(radiance, pixel, vec4f(sum / f32(spp), 1.0));
+                store_first_hit(pixel, path_primary_pos, path_primary_normal);
+                if lane_done {
+                    break;
+                }
+                p = next_p;
+                pixel = next_pixel;
+                s = 0u;
+                sum = vec3f(0.0);
+            }
+            st = new_path(ro, rd);
+            path_primary_pos = vec4f(0.0);
+            path_primary_normal = vec4f(0.0);
+        } else {
+            st.depth += 1u;
+        }
+        hit = next.hit;
+    }
+}
+
+@compute @workgroup_size(64, 1)
+fn main(@builtin(global_invocation_id) id: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    render(id, groups);
+}
+
+// The later dispatches of a split spp (src/graph/compile/split.rs), one
+// texel per invocation, blending into what the earlier ones left.
+fn sample_sum(id: vec2u) -> vec3f {
+    var rng = rng_for(id, frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
+    let spp = max(params.spp, 1u);
+    var sum = vec3f(0.0);
+    for (var s = 0u; s < spp; s++) {
+        let rd = camera_dir(frame.camera, id, rand2(&rng));
+        sum += trace_path(frame.camera.origin, rd, params.max_depth, params.rr_depth, true, &rng);
+    }
+    return sum;
+}
+
+@compute @workgroup_size(128, 1)
+fn main_more(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let sum = sample_sum(id.xy);
+    let before = textureLoad(radiance_acc, id.xy).rgb;
+    let n = f32(params.spp_done) + f32(max(params.spp, 1u));
+    textureStore(radiance_acc, id.xy, vec4f(before + (sum - f32(max(params.spp, 1u)) * before) / n, 1.0));
+}
