@@ -26,9 +26,6 @@ struct Params {
 
 const SALT: u32 = 0x70617468u;
 
-// The sum of this dispatch's `spp` samples of pixel `id`. Each dispatch of
-// a split frame draws its own random stream (the first one's is what an
-// unsplit frame draws).
 // The first dispatch (`main`) renders several texels per invocation, the
 // graph's `texels_per_invocation`: texels k, k + L, k + 2L, ... in row-major
 // order for invocation k of the L dispatched. Each lane starts its next
@@ -116,8 +113,9 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(num_workgroups) group
     render(id, groups);
 }
 
-// The later dispatches of a split spp (src/graph/compile/split.rs), one
-// texel per invocation, blending into what the earlier ones left.
+// The sum of this dispatch's `spp` samples of pixel `id`. Each dispatch of
+// a split frame draws its own random stream (the first one's is what an
+// unsplit frame draws).
 fn sample_sum(id: vec2u) -> vec3f {
     var rng = rng_for(id, frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
     let spp = max(params.spp, 1u);
@@ -129,6 +127,8 @@ fn sample_sum(id: vec2u) -> vec3f {
     return sum;
 }
 
+// The later dispatches of a split spp (src/graph/compile/split.rs), one
+// texel per invocation, blending into what the earlier ones left.
 @compute @workgroup_size(128, 1)
 fn main_more(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {

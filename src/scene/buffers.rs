@@ -331,7 +331,7 @@ impl SceneBuffers {
     /// gives `entries` its tile size and row length (none: size 0).
     fn set_tiles(&mut self, queue: &wgpu::Queue, pixels: Option<PixelCamera>, entries: &mut CameraEntriesGpu) {
         let d = &self.data;
-        let Some(pixels) = pixels.filter(|_| self.tile_texels.len() == MAX_TILES * TILE_TEXELS && is_one_mesh(d)) else {
+        let Some(pixels) = pixels.filter(|_| self.takes_tiles()) else {
             return;
         };
         let key = Some((pixels, self.epoch));
@@ -355,10 +355,16 @@ impl SceneBuffers {
     /// None where the scene takes no table or no frame was drawn yet.
     pub fn rebuild_tile_table(&self) -> Option<TileTable> {
         let (pixels, _) = self.tiles_for?;
-        if self.tile_texels.len() != MAX_TILES * TILE_TEXELS || !is_one_mesh(&self.data) {
+        if !self.takes_tiles() {
             return None;
         }
         tile_table(&self.data.bvh, self.data.instances[0].index, &pixels)
+    }
+
+    /// Whether the scene's camera rays start from a tile table: one mesh,
+    /// not flat (the table's texture was made full size only then).
+    fn takes_tiles(&self) -> bool {
+        self.tile_texels.len() == MAX_TILES * TILE_TEXELS && is_one_mesh(&self.data)
     }
 
     /// Whether rays test every primitive instead of walking the BVH (the
