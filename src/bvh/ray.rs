@@ -144,15 +144,28 @@ pub fn hit_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32, tmin: f32, tmax: 
 /// or tiny direction component) the slab is widened to all t by `slack`:
 /// 0 * 1e30 would make it end at t = 0, and a box is kept whether or not
 /// the origin is between its planes (conservative; cheaper on SIMD CPU
-/// drivers than an exact inside test per box).
+/// drivers than an exact inside test per box). Minima and maxima by
+/// compare and select, as the shader takes them (see ray.wgsl): a NaN
+/// keeps the box.
 pub fn hit_box(r: &Ray, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
     let t0 = (bmin - r.o) * r.inv;
     let t1 = (bmax - r.o) * r.inv;
-    let lo = t0.min(t1) - r.slack;
-    let hi = t0.max(t1) + r.slack;
-    let near = lo.max_element().max(0.0);
-    let far = hi.min_element().min(tmax) * IZE_SCALE;
+    let first = t0.cmplt(t1);
+    let lo = Vec3::select(first, t0, t1) - r.slack;
+    let hi = Vec3::select(first, t1, t0) + r.slack;
+    let near = larger(larger(larger(lo.x, lo.y), lo.z), 0.0);
+    let far = smaller(smaller(smaller(hi.x, hi.y), hi.z), tmax) * IZE_SCALE;
     (near <= far).then_some(near)
+}
+
+/// `a` if it is the larger, else `b` (also where either is NaN).
+fn larger(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// `a` if it is the smaller, else `b` (also where either is NaN).
+fn smaller(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
 }
 
 /// Read-only view of the scene geometry, as on the GPU.
