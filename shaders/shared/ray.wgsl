@@ -117,7 +117,12 @@ fn hit_sheared(a: vec3f, b: vec3f, c: vec3f, tmax: f32) -> vec3f {
     let v = diff_of_products(a.x, c.y, a.y, c.x);
     let w = diff_of_products(b.x, a.y, b.y, a.x);
     let miss = vec3f(-1.0, 0.0, 0.0);
-    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+    // Edge functions of both signs: outside. Written out as three tests
+    // each side, the driver's compiler turns this into min() and max() and
+    // pays for their NaN rule (see hit_box); compares and selects instead.
+    // Where a NaN changes this test, det below is NaN and the triangle
+    // misses either way.
+    if smaller(smaller(u, v), w) < 0.0 && larger(larger(u, v), w) > 0.0 {
         return miss;
     }
     let det = u + v + w;
