@@ -57,16 +57,31 @@ pub fn tile_grid(size: (u32, u32), log2: u32) -> (u32, u32) {
     (size.0.div_ceil(side), size.1.div_ceil(side))
 }
 
+/// Sample rays a side of a tile (`TileFrustum::worth_expanding`).
+pub const EXPAND_GRID: usize = 3;
+/// Of the EXPAND_GRID^2 sample rays, how many must enter a node for the
+/// cut to go below it: a third. Expanding a node adds one entry, which
+/// every ray of the tile tests (two texels and one box, a fraction of a
+/// trip), and saves each ray that enters the node the trip that would
+/// test its children; a cut below partly covered nodes also leaves out
+/// more of what the frustum misses. On the 1M-triangle knot (`glint
+/// bench rays --trips`, 1280 x 720) the busiest lane of 8 took 11.31 BLAS
+/// trips a ray where only nodes every ray enters were expanded; with
+/// 2, 3 or 4 of 3 x 3 samples 9.39, 9.24 or 9.54; with 13, 8, 3 or 1 of
+/// 5 x 5, 9.72, 9.32, 9.47 or 9.81 (and the table took twice the time).
+pub const EXPAND_MIN_HITS: usize = 3;
+
 /// The rays through one tile: from `origin` along the directions within
 /// the four corner directions (a convex cone), bounded by four planes
 /// through the origin.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct TileFrustum {
     pub origin: Vec3,
-    /// The rays through the tile's own corners, in order around it
-    /// (`all_hit`), made once per tile, not per box tested (inside Sponza
-    /// making them per box took a fifth of the table's time, by `perf`).
-    pub corners: [Ray; 4],
+    /// Rays through the centres of an EXPAND_GRID x EXPAND_GRID grid of
+    /// the tile's pixels (`worth_expanding`), made once per tile, not
+    /// per box tested (inside Sponza making rays per box took a fifth of
+    /// the table's time, by `perf`).
+    pub samples: [Ray; EXPAND_GRID * EXPAND_GRID],
     /// Inward normals of the side planes, through the corners widened by
     /// FRUSTUM_MARGIN_PX (`may_hit`).
     normals: [Vec3; 4],
@@ -76,11 +91,14 @@ impl TileFrustum {
     /// The frustum of the pixels in [x0, x1] x [y0, y1] (continuous pixel
     /// coordinates; `dir` maps them to a ray direction, as `camera_dir`),
     /// its side planes widened by FRUSTUM_MARGIN_PX. Which nodes are
-    /// expanded (`all_hit`, by the tile's own corners: inside Sponza 14.2
-    /// node trips a ray against 14.5 by the widened ones, counted on the
-    /// CPU) changes no hit.
+    /// expanded (`worth_expanding`, by sample rays within the tile's own
+    /// pixels) changes no hit.
     pub fn new(origin: Vec3, (x0, y0): (f32, f32), (x1, y1): (f32, f32), dir: impl Fn(f32, f32) -> Vec3) -> TileFrustum {
-        let corners = [dir(x0, y0), dir(x1, y0), dir(x1, y1), dir(x0, y1)].map(|d| Ray::new(origin, d));
+        let at = |i: usize, lo: f32, hi: f32| lo + (i as f32 + 0.5) / EXPAND_GRID as f32 * (hi - lo);
+        let samples = std::array::from_fn(|k| {
+            let (i, j) = (k % EXPAND_GRID, k / EXPAND_GRID);
+            Ray::new(origin, dir(at(i, x0, x1), at(j, y0, y1)))
+        });
         let m = FRUSTUM_MARGIN_PX;
         let (x0, y0, x1, y1) = (x0 - m, y0 - m, x1 + m, y1 + m);
         let wide = [dir(x0, y0), dir(x1, y0), dir(x1, y1), dir(x0, y1)];
@@ -89,7 +107,7 @@ impl TileFrustum {
             let n = wide[i].cross(wide[(i + 1) % 4]);
             if n.dot(centre) < 0.0 { -n } else { n }
         });
-        TileFrustum { origin, corners, normals }
+        TileFrustum { origin, samples, normals }
     }
 
     /// False only where no ray of the frustum can reach the box: the box
@@ -103,20 +121,32 @@ impl TileFrustum {
         })
     }
 
-    /// Whether every ray of the frustum enters the box: its corner rays
-    /// do (the directions that reach a convex box from a point form a
-    /// convex cone).
-    pub fn all_hit(&self, n: &BvhNode) -> bool {
+    /// Whether the cut goes below this node: it holds the camera, or at
+    /// least EXPAND_MIN_HITS of the sample rays enter its box.
+    pub fn worth_expanding(&self, n: &BvhNode) -> bool {
+        if holds(n, self.origin) {
+            return true;
+        }
         let (lo, hi) = (Vec3::from(n.bmin), Vec3::from(n.bmax));
-        holds(n, self.origin) || self.corners.iter().all(|r| hit_box(r, lo, hi, f32::MAX).is_some())
+        let mut hits = 0;
+        for (k, r) in self.samples.iter().enumerate() {
+            if hits + (self.samples.len() - k) < EXPAND_MIN_HITS {
+                return false;
+            }
+            hits += usize::from(hit_box(r, lo, hi, f32::MAX).is_some());
+            if hits >= EXPAND_MIN_HITS {
+                return true;
+            }
+        }
+        false
     }
 }
 
 /// The cut of the BLAS at `root` for the rays of `frustum`, in push order
 /// (the last is popped first): at most MAX_TILE_ENTRIES entries, or None
 /// where a node index lies outside `nodes` (`tile_table` then gives the
-/// tile the root as its one entry). Nodes every ray of the frustum enters
-/// are expanded while the cut fits, children taken as `camera_cut` takes
+/// tile the root as its one entry). Nodes enough of the frustum's rays
+/// enter (`worth_expanding`) are expanded while the cut fits, children taken as `camera_cut` takes
 /// them (the one holding the camera first, else the nearer); subtrees
 /// outside the frustum are left out. Empty where the frustum misses the
 /// root's box.
@@ -128,7 +158,7 @@ pub fn tile_cut(nodes: &[BvhNode], root: u32, frustum: &TileFrustum) -> Option<V
         if !frustum.may_hit(n) {
             continue;
         }
-        let expand = !n.is_leaf() && cut.len() + todo.len() + 2 <= MAX_TILE_ENTRIES && frustum.all_hit(n);
+        let expand = !n.is_leaf() && cut.len() + todo.len() + 2 <= MAX_TILE_ENTRIES && frustum.worth_expanding(n);
         if !expand {
             cut.push(i);
             if cut.len() > MAX_TILE_ENTRIES {

@@ -110,8 +110,26 @@ fn a_frustum_keeps_the_boxes_its_rays_reach_and_drops_the_rest() {
     // Behind the camera.
     assert!(!f.may_hit(&node([-6.0, 4.0, 4.0], [-4.0, 6.0, 6.0])));
     // A box around the camera is entered by every ray.
-    assert!(f.all_hit(&node([-1.0; 3], [1.0; 3])));
-    assert!(!f.all_hit(&node([-6.0, 4.0, -6.0], [-5.9, 4.1, -5.9])));
+    assert!(f.worth_expanding(&node([-1.0; 3], [1.0; 3])));
+    assert!(!f.worth_expanding(&node([-6.0, 4.0, -6.0], [-5.9, 4.1, -5.9])));
+}
+
+#[test]
+fn a_node_is_expanded_when_a_third_of_the_tiles_rays_enter_it() {
+    // The tile at the top left of a 90 degree view down -z spans x in
+    // [-1, -0.5] and y in [0.5, 1] at z = -1. Its 3 x 3 sample rays cross
+    // z = -1 in columns at x = -0.917, -0.75, -0.583 and rows at y = 0.917,
+    // 0.75, 0.583; the boxes below end at z = -1.1.
+    let cam = camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 90.0, (64, 64));
+    let f = cam.tile_frustum(4, (0, 0));
+    let node = |x1: f32, y0: f32| BvhNode { bmin: [-1.5, y0, -1.1], left_first: 0, bmax: [x1, 2.0, -0.9], count: 1 };
+    // The left column: 3 of 9.
+    assert!(f.worth_expanding(&node(-0.95, 0.0)));
+    // Its top ray alone, in the frustum all the same.
+    assert!(!f.worth_expanding(&node(-0.95, 0.95)));
+    assert!(f.may_hit(&node(-0.95, 0.95)));
+    // None.
+    assert!(!f.worth_expanding(&node(-1.2, 0.0)));
 }
 
 #[test]
