@@ -29,10 +29,22 @@ const SAH_LEAVES_MAX_PRIMS: usize = 1 << 18;
 /// Sponza the same time with 1.23x the nodes of 2.0.
 const NODE_COST: f32 = 2.0;
 
-/// In meshes over SAH_LEAVES_MAX_PRIMS, nodes of up to this many
+/// In meshes over SAH_LEAVES_MAX_PRIMS, the leaves' size: nodes of up
+/// to this many primitives are leaves, larger ones split. Two rather than
+/// MAX_LEAF: a leaf costs each ray that reaches it a trip per triangle,
+/// and a node of four split in two leaves of two costs a node trip and
+/// the triangles of the leaves the ray enters, often one. On the
+/// 1M-triangle knot (`glint bench rays --trips`, 1280 x 720) the busiest
+/// lane of 8 took 8.45 BLAS trips a ray against 9.24, with 1.85x the
+/// nodes (1.11M against 601k) and the same build time; query and
+/// primary 0.93x the time (10 alternated rounds).
+pub(super) const LARGE_MESH_LEAF: usize = 2;
+
+/// The smallest runs `sort_by_rank` sorts in an array of their own. In
+/// meshes over SAH_LEAVES_MAX_PRIMS, nodes of up to 2 x `SmallBuild::leaf`
 /// primitives are split at their centroid median into two leaves without
-/// an SAH search (on a 1M-triangle knot: build -12%, traversal steps per
-/// primary ray +1.2%).
+/// an SAH search (on a 1M-triangle knot with leaves of 4: build -12%,
+/// traversal steps per primary ray +1.2%).
 const MEDIAN_SPLIT_MAX: usize = 2 * MAX_LEAF;
 
 /// How `build_small` ends a BVH's subtrees: chosen once per build, from
@@ -40,13 +52,17 @@ const MEDIAN_SPLIT_MAX: usize = 2 * MAX_LEAF;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct SmallBuild {
     pub max_depth: u32,
-    /// Leaves where the SAH says (else every node of up to MAX_LEAF).
+    /// Leaves where the SAH says (else every node of up to `leaf`).
     pub sah_leaves: bool,
+    /// Without SAH leaves, the primitives a leaf holds at most (MAX_LEAF
+    /// near the depth bound).
+    pub leaf: usize,
 }
 
 impl SmallBuild {
     pub(super) fn for_mesh(prims: usize, max_depth: u32) -> SmallBuild {
-        SmallBuild { max_depth, sah_leaves: prims <= SAH_LEAVES_MAX_PRIMS }
+        let sah_leaves = prims <= SAH_LEAVES_MAX_PRIMS;
+        SmallBuild { max_depth, sah_leaves, leaf: if sah_leaves { MAX_LEAF } else { LARGE_MESH_LEAF } }
     }
 }
 
@@ -55,8 +71,10 @@ impl SmallBuild {
 /// sorts the primitives along the widest centroid axis by rank, without
 /// branches, and takes the exact SAH plane of that order (the centroid
 /// median up to 2 x MAX_LEAF primitives where `policy` has no SAH leaves,
-/// or when the depth bound is near). A node of up to MAX_LEAF primitives
-/// is a leaf, unless `policy` has SAH leaves and the split pays.
+/// or when the depth bound is near). Where `policy` has SAH leaves, a node
+/// of up to MAX_LEAF primitives is a leaf unless the split pays; else a
+/// node of up to `policy.leaf` is one (of up to MAX_LEAF at the depth
+/// bound).
 /// Through the general path, with its bins, partition and task per node,
 /// the nodes under 16 primitives took 30% of a 1M-triangle build, mostly
 /// fixed costs and mispredicted branches.
@@ -66,7 +84,8 @@ pub(super) fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: 
         nodes[node].left_first = first as u32;
         nodes[node].count = n as u32;
     };
-    if n <= MAX_LEAF && (!policy.sah_leaves || n < 2 || depth + 1 >= policy.max_depth) {
+    let leaf_size = if policy.sah_leaves { MAX_LEAF } else { policy.leaf };
+    if n <= MAX_LEAF && (n <= leaf_size && !policy.sah_leaves || n < 2 || depth + 1 >= policy.max_depth) {
         make_leaf(nodes);
         return;
     }
@@ -83,7 +102,7 @@ pub(super) fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: 
     if sorted_along != Some(axis) {
         sort_by_rank(prims, axis);
     }
-    let median = depth + balanced_levels(n) >= policy.max_depth || (!policy.sah_leaves && n <= MEDIAN_SPLIT_MAX);
+    let median = depth + balanced_levels(n) >= policy.max_depth || (!policy.sah_leaves && n <= 2 * policy.leaf);
     let mid = if median { n / 2 } else { sah_sweep(prims) };
     let bounds = |side: &[Prim]| {
         let mut b = Box3::EMPTY;
@@ -93,7 +112,7 @@ pub(super) fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: 
         b
     };
     let (lb, rb) = (bounds(&prims[..mid]), bounds(&prims[mid..]));
-    if n <= MAX_LEAF && !split_pays(&lb, mid, &rb, n - mid) {
+    if policy.sah_leaves && n <= MAX_LEAF && !split_pays(&lb, mid, &rb, n - mid) {
         make_leaf(nodes);
         return;
     }

@@ -198,14 +198,23 @@ fn a_leaf_ends_where_splitting_stops_paying() {
 }
 
 #[test]
-fn meshes_too_big_for_the_cache_keep_leaves_of_up_to_max_leaf() {
+fn meshes_too_big_for_the_cache_take_leaves_of_a_fixed_size() {
     assert!(SmallBuild::for_mesh(66_453, BLAS_MAX_DEPTH).sah_leaves);
     let big = SmallBuild::for_mesh(1_000_000, BLAS_MAX_DEPTH);
     assert!(!big.sah_leaves);
-    // The far pairs above stay one leaf under that policy.
-    let far = [0.0, 1.0, 100.0, 101.0].map(unit_box_at);
-    let mut prims: Vec<Prim> = far.iter().enumerate().map(|(i, b)| Prim::new(b, i as u32)).collect();
+    assert_eq!(big.leaf, small::LARGE_MESH_LEAF);
+    // Four boxes in a row split at the median into leaves of two, whether
+    // or not the SAH would split them (the near pairs above it would not).
+    for xs in [[0.0, 1.0, 100.0, 101.0], [0.0, 0.1, 0.2, 0.3]] {
+        let mut prims: Vec<Prim> = xs.map(unit_box_at).iter().enumerate().map(|(i, b)| Prim::new(b, i as u32)).collect();
+        let mut nodes = vec![BvhNode::zeroed()];
+        build_small(&mut prims, 0, 0, 1, big, &mut nodes, None);
+        assert_eq!(nodes.len(), 3, "{xs:?}");
+        assert_eq!((nodes[0].count, nodes[1].count, nodes[2].count), (0, 2, 2), "{xs:?}");
+    }
+    // At the depth bound, four stay one leaf.
+    let mut prims: Vec<Prim> = [0.0, 1.0, 2.0, 3.0].map(unit_box_at).iter().enumerate().map(|(i, b)| Prim::new(b, i as u32)).collect();
     let mut nodes = vec![BvhNode::zeroed()];
-    build_small(&mut prims, 0, 0, 1, big, &mut nodes, None);
+    build_small(&mut prims, 0, 0, BLAS_MAX_DEPTH - 1, big, &mut nodes, None);
     assert_eq!((nodes.len(), nodes[0].count), (1, 4));
 }
