@@ -67,6 +67,8 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
 
 @compute @workgroup_size(8, 8)
 fn radiance(@builtin(global_invocation_id) id: vec3u) {
+    // First thing, where every lane runs (see trace_pair).
+    var flat = scene_flat;
     let dims = textureDimensions(thesis_radiance);
     let s = spa(dims);
     if frame.probe_n < 2u || s == 0u || any(id.xy >= dims) {
@@ -81,7 +83,7 @@ fn radiance(@builtin(global_invocation_id) id: vec3u) {
     if params.method == 1u {
         l = diffuse_radiance(origin, dir);
     } else {
-        l = trace_path(origin, dir, params.bounces, params.rr_depth, params.emitters != 0u, &rng);
+        l = trace_path(&flat, origin, dir, params.bounces, params.rr_depth, params.emitters != 0u, &rng);
     }
     let before = textureLoad(thesis_radiance, id.xy);
     let n = f32(run.since_change) + 1.0;

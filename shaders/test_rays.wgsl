@@ -23,6 +23,7 @@ fn special(i: u32) -> f32 {
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3u) {
+    var flat = scene_flat;
     if id.x >= 512u || id.y >= 512u {
         return;
     }
@@ -33,11 +34,11 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let any = trace_any(o, d, 3.0e38);
     let p = trace_primary(o, d, 3.0e38);
     // trace_pair along the ray itself: its hit and its shadow verdict.
-    let pair = trace_pair(o, d, true, o, d, 3.0e38, NO_LIGHT);
+    let pair = trace_pair(&flat, o, d, true, o, d, 3.0e38, NO_LIGHT);
     // A shadow ray from elsewhere (origin and direction swapped).
-    let apart = trace_pair(o, d, true, d, o, 3.0e38, NO_LIGHT);
+    let apart = trace_pair(&flat, o, d, true, d, o, 3.0e38, NO_LIGHT);
     // Wanting no hit and a shadow ray of length 0: neither is traced.
-    let none = trace_pair(o, d, false, o, d, 0.0, NO_LIGHT);
+    let none = trace_pair(&flat, o, d, false, o, d, 0.0, NO_LIGHT);
     let agree = bitcast<u32>(p.t) == bitcast<u32>(h.t) && p.object == h.object
         && bitcast<u32>(pair.hit.t) == bitcast<u32>(h.t) && pair.hit.object == h.object && pair.blocked == any
         && bitcast<u32>(apart.hit.t) == bitcast<u32>(h.t) && apart.blocked == trace_any(d, o, 3.0e38)

@@ -142,12 +142,16 @@ override FLAT_LAST_LIGHT_SPHERE: u32 = 32u;
 // traversals. The same answers as trace_closest and trace_any, bit for bit.
 //
 // The spheres and the quads (FLAT_PAIRS) are written out slot by slot from
-// scene_flat, where each load has a constant offset: lavapipe loads it
-// once and broadcasts it, where a texel fetch in a loop gathered it lane by
-// lane (pathtrace 0.97-0.98x the time of the loops on the Cornell box).
-// Inside the path tracer's bounce loop this costs no more than the loop,
-// unlike the primary-ray sweep's texel loads (see flat_sweep).
-fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow_tmax: f32, shadow_light: u32) -> PairHit {
+// `flat`, a copy of the scene_flat uniform that the entry point makes
+// first thing (`var flat = scene_flat;`), where each load has a constant
+// offset. Read from the uniform inside a loop, a constant offset is still
+// loaded lane by lane and component by component: lavapipe loads it once
+// and broadcasts it only where every lane of the SIMD group must be
+// running, as at the top of an entry point (pathtrace 0.82x the frame on
+// the Cornell box at 1280 x 720 against reading the uniform here). Texel
+// fetches in the loop had cost more still (the uniform took the loops
+// 0.97-0.98x the time).
+fn trace_pair(flat: ptr<function, FlatScene>, ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow_tmax: f32, shadow_light: u32) -> PairHit {
     let tmax = 3.0e38;
     if BRUTE_FORCE || !FLAT_SCENE {
         var hit = no_hit(tmax);
@@ -159,19 +163,19 @@ fn trace_pair(ro: vec3f, rd: vec3f, want_hit: bool, so: vec3f, sd: vec3f, shadow
     let a = make_ray(ro, rd);
     let b = make_ray(so, sd);
     var sweep = PairSweep(Closest(tmax, NO_HIT, vec2f(0.0)), false);
-    pair_spheres4(a, b, 0u, shadow_tmax, shadow_light, &sweep);
-    pair_spheres4(a, b, 4u, shadow_tmax, shadow_light, &sweep);
-    pair_spheres4(a, b, 8u, shadow_tmax, shadow_light, &sweep);
-    pair_spheres4(a, b, 12u, shadow_tmax, shadow_light, &sweep);
-    pair_spheres4(a, b, 16u, shadow_tmax, shadow_light, &sweep);
-    pair_spheres4(a, b, 20u, shadow_tmax, shadow_light, &sweep);
-    pair_spheres4(a, b, 24u, shadow_tmax, shadow_light, &sweep);
-    pair_spheres4(a, b, 28u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 0u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 4u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 8u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 12u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 16u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 20u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 24u, shadow_tmax, shadow_light, &sweep);
+    pair_spheres4(flat, a, b, 28u, shadow_tmax, shadow_light, &sweep);
     var best = sweep.best;
-    pair_quads4(a, 0u, &best);
-    pair_quads4(a, 4u, &best);
-    pair_quads4(a, 8u, &best);
-    pair_quads4(a, 12u, &best);
+    pair_quads4(flat, a, 0u, &best);
+    pair_quads4(flat, a, 4u, &best);
+    pair_quads4(flat, a, 8u, &best);
+    pair_quads4(flat, a, 12u, &best);
     // Triangles that do not pair up: a loop that tests at the bottom (see
     // brute_force).
     if SCENE_MESHES && frame.n_triangles > 0u && !FLAT_PAIRS {
@@ -208,9 +212,9 @@ struct PairSweep {
 
 // Sphere slot k for both of trace_pair's rays (the shadow ray's test as
 // brute_force's: bound next_up(tmax), then < tmax).
-fn pair_sphere(a: Ray, b: Ray, k: u32, shadow_tmax: f32, shadow_light: u32, sweep: ptr<function, PairSweep>) {
+fn pair_sphere(flat: ptr<function, FlatScene>, a: Ray, b: Ray, k: u32, shadow_tmax: f32, shadow_light: u32, sweep: ptr<function, PairSweep>) {
     if SCENE_SPHERES && k < FLAT_SPHERES {
-        let s = flat_sphere_at(k);
+        let s = flat_sphere_at(flat, k);
         let t = ray_sphere(a.o, a.d, s.geo.xyz, s.geo.w, 0.0, next_up((*sweep).best.t));
         let prim = k | SPHERE_BIT;
         if t > 0.0 && t < 3.0e38 && closer(t, prim, (*sweep).best) {
@@ -226,20 +230,20 @@ fn pair_sphere(a: Ray, b: Ray, k: u32, shadow_tmax: f32, shadow_light: u32, swee
     }
 }
 
-fn pair_spheres4(a: Ray, b: Ray, k: u32, shadow_tmax: f32, shadow_light: u32, sweep: ptr<function, PairSweep>) {
-    pair_sphere(a, b, k, shadow_tmax, shadow_light, sweep);
-    pair_sphere(a, b, k + 1u, shadow_tmax, shadow_light, sweep);
-    pair_sphere(a, b, k + 2u, shadow_tmax, shadow_light, sweep);
-    pair_sphere(a, b, k + 3u, shadow_tmax, shadow_light, sweep);
+fn pair_spheres4(flat: ptr<function, FlatScene>, a: Ray, b: Ray, k: u32, shadow_tmax: f32, shadow_light: u32, sweep: ptr<function, PairSweep>) {
+    pair_sphere(flat, a, b, k, shadow_tmax, shadow_light, sweep);
+    pair_sphere(flat, a, b, k + 1u, shadow_tmax, shadow_light, sweep);
+    pair_sphere(flat, a, b, k + 2u, shadow_tmax, shadow_light, sweep);
+    pair_sphere(flat, a, b, k + 3u, shadow_tmax, shadow_light, sweep);
 }
 
 // Quad slot k (FLAT_PAIRS): triangles 2k = (a, b, c) and 2k + 1 =
 // (a, c, d), their four vertices loaded and sheared once.
-fn pair_quad(r: Ray, k: u32, best: ptr<function, Closest>) {
+fn pair_quad(flat: ptr<function, FlatScene>, r: Ray, k: u32, best: ptr<function, Closest>) {
     let i = 2u * k;
     if SCENE_MESHES && FLAT_PAIRS && i < FLAT_TRIANGLES {
-        let tri = flat_triangle_at(i);
-        let d = flat_triangle_at(i + 1u).p2.xyz;
+        let tri = flat_triangle_at(flat, i);
+        let d = flat_triangle_at(flat, i + 1u).p2.xyz;
         let sa = shear(r, tri.p0.xyz);
         let sc = shear(r, tri.p2.xyz);
         let h = hit_sheared(sa, shear(r, tri.p1.xyz), sc, next_up((*best).t));
@@ -253,11 +257,11 @@ fn pair_quad(r: Ray, k: u32, best: ptr<function, Closest>) {
     }
 }
 
-fn pair_quads4(r: Ray, k: u32, best: ptr<function, Closest>) {
-    pair_quad(r, k, best);
-    pair_quad(r, k + 1u, best);
-    pair_quad(r, k + 2u, best);
-    pair_quad(r, k + 3u, best);
+fn pair_quads4(flat: ptr<function, FlatScene>, r: Ray, k: u32, best: ptr<function, Closest>) {
+    pair_quad(flat, r, k, best);
+    pair_quad(flat, r, k + 1u, best);
+    pair_quad(flat, r, k + 2u, best);
+    pair_quad(flat, r, k + 3u, best);
 }
 
 // Whether one of light `light`'s occluders (a flat scene's triangles that

@@ -170,7 +170,8 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
 // `first_emission`, a light hit first counts nothing (what the hybrid's
 // light passes shade is left out: indirect light at a probe; emissive
 // surfaces still count, as no light pass samples them).
-fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> vec3f {
+// `flat`: the entry point's copy of scene_flat (see trace_pair).
+fn trace_path(flat: ptr<function, FlatScene>, ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> vec3f {
     var st = new_path(ro_in, rd_in);
     // The hit of the ray in hand: the camera ray's traced here, each
     // bounce's at the end of the bounce before, with that bounce's last
@@ -183,7 +184,7 @@ fn trace_path(ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_e
             break;
         }
         // A path that ends here (or at max_depth) needs no next hit.
-        let next = trace_pair(b.o, st.rd, b.go_on && depth + 1u < max_depth, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
+        let next = trace_pair(flat, b.o, st.rd, b.go_on && depth + 1u < max_depth, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
         if !next.blocked {
             st.result += b.shadowed_light;
         }

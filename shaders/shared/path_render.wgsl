@@ -35,7 +35,7 @@ const SALT: u32 = 0x70617468u;
 // ran as many as its longest path needed (on the Cornell box 3.73 trips
 // per group of 8 against 2.66 per path). Each texel's random numbers are
 // its own, so the image is the same whatever the dispatch.
-fn render(id: vec3u, groups: vec3u) {
+fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     let lanes = groups.x * 64u * groups.y;
     let n = frame.size.x * frame.size.y;
     var p = id.y * groups.x * 64u + id.x;
@@ -80,7 +80,7 @@ fn render(id: vec3u, groups: vec3u) {
             ro = frame.camera.origin;
             rd = camera_dir(frame.camera, select(pixel, next_pixel, pixel_done), rand2(&rng));
         }
-        let next = trace_pair(ro, rd, !lane_done, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
+        let next = trace_pair(flat, ro, rd, !lane_done, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
         if !next.blocked {
             st.result += b.shadowed_light;
         }
@@ -110,19 +110,21 @@ fn render(id: vec3u, groups: vec3u) {
 
 @compute @workgroup_size(64, 1)
 fn main(@builtin(global_invocation_id) id: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    render(id, groups);
+    // First thing, where every lane runs (see trace_pair).
+    var flat = scene_flat;
+    render(&flat, id, groups);
 }
 
 // The sum of this dispatch's `spp` samples of pixel `id`. Each dispatch of
 // a split frame draws its own random stream (the first one's is what an
 // unsplit frame draws).
-fn sample_sum(id: vec2u) -> vec3f {
+fn sample_sum(flat: ptr<function, FlatScene>, id: vec2u) -> vec3f {
     var rng = rng_for(id, frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
     let spp = max(params.spp, 1u);
     var sum = vec3f(0.0);
     for (var s = 0u; s < spp; s++) {
         let rd = camera_dir(frame.camera, id, rand2(&rng));
-        sum += trace_path(frame.camera.origin, rd, params.max_depth, params.rr_depth, true, &rng);
+        sum += trace_path(flat, frame.camera.origin, rd, params.max_depth, params.rr_depth, true, &rng);
     }
     return sum;
 }
@@ -131,10 +133,11 @@ fn sample_sum(id: vec2u) -> vec3f {
 // texel per invocation, blending into what the earlier ones left.
 @compute @workgroup_size(128, 1)
 fn main_more(@builtin(global_invocation_id) id: vec3u) {
+    var flat = scene_flat;
     if !in_frame(id) {
         return;
     }
-    let sum = sample_sum(id.xy);
+    let sum = sample_sum(&flat, id.xy);
     let before = textureLoad(radiance_acc, id.xy).rgb;
     let n = f32(params.spp_done) + f32(max(params.spp, 1u));
     textureStore(radiance_acc, id.xy, vec4f(before + (sum - f32(max(params.spp, 1u)) * before) / n, 1.0));

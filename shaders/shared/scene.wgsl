@@ -96,17 +96,18 @@ fn load_triangle(i: u32) -> Triangle {
     );
 }
 
-// Triangle i and sphere i of a flat scene, from scene_flat (i a constant).
-fn flat_triangle_at(i: u32) -> Triangle {
+// Triangle i and sphere i of a flat scene (i a constant), from an entry
+// point's copy of scene_flat (see trace_pair in flat.wgsl).
+fn flat_triangle_at(flat: ptr<function, FlatScene>, i: u32) -> Triangle {
     return Triangle(
-        bitcast<vec4f>(scene_flat.triangles[3u * i]),
-        bitcast<vec4f>(scene_flat.triangles[3u * i + 1u]),
-        bitcast<vec4f>(scene_flat.triangles[3u * i + 2u]),
+        bitcast<vec4f>((*flat).triangles[3u * i]),
+        bitcast<vec4f>((*flat).triangles[3u * i + 1u]),
+        bitcast<vec4f>((*flat).triangles[3u * i + 2u]),
     );
 }
 
-fn flat_sphere_at(i: u32) -> Sphere {
-    return Sphere(bitcast<vec4f>(scene_flat.spheres[2u * i]), scene_flat.spheres[2u * i + 1u]);
+fn flat_sphere_at(flat: ptr<function, FlatScene>, i: u32) -> Sphere {
+    return Sphere(bitcast<vec4f>((*flat).spheres[2u * i]), (*flat).spheres[2u * i + 1u]);
 }
 
 // Vertex k (0, 1 or 2) of triangle i.
