@@ -146,8 +146,9 @@ impl TileFrustum {
 /// (the last is popped first): at most MAX_TILE_ENTRIES entries, or None
 /// where a node index lies outside `nodes` (`tile_table` then gives the
 /// tile the root as its one entry). Nodes enough of the frustum's rays
-/// enter (`worth_expanding`) are expanded while the cut fits, children taken as `camera_cut` takes
-/// them (the one holding the camera first, else the nearer); subtrees
+/// enter (`worth_expanding`) are expanded while the cut fits, children
+/// taken as `camera_cut` takes them (the one holding the camera first,
+/// else the nearer); subtrees
 /// outside the frustum are left out. Empty where the frustum misses the
 /// root's box.
 pub fn tile_cut(nodes: &[BvhNode], root: u32, frustum: &TileFrustum) -> Option<Vec<u32>> {
