@@ -146,7 +146,7 @@ pub fn hit_sphere(o: Vec3, d: Vec3, center: Vec3, radius: f32, tmin: f32, tmax: 
 /// the origin is between its planes (conservative; cheaper on SIMD CPU
 /// drivers than an exact inside test per box). Minima and maxima by
 /// compare and select, as the shader takes them (see ray.wgsl): a NaN
-/// keeps the box.
+/// only lowers near and raises far, so the box is kept.
 pub fn hit_box(r: &Ray, bmin: Vec3, bmax: Vec3, tmax: f32) -> Option<f32> {
     let t0 = (bmin - r.o) * r.inv;
     let t1 = (bmax - r.o) * r.inv;
