@@ -69,10 +69,10 @@ mod tests {
         assert!(flat.contains(&format!("override FLAT_LAST_LIGHT_SPHERE: u32 = {FLAT_LIMIT}u;")), "no light sphere by default");
         // trace_pair writes out every slot, four a call.
         for k in (0..FLAT_LIMIT).step_by(4) {
-            assert!(flat.contains(&format!("    pair_spheres4(a, b, {k}u, shadow_tmax, shadow_light, &sweep);")), "sphere slot {k}");
+            assert!(flat.contains(&format!("    pair_spheres4(flat, a, b, {k}u, shadow_tmax, shadow_light, &sweep);")), "sphere slot {k}");
         }
         for k in (0..FLAT_LIMIT / 2).step_by(4) {
-            assert!(flat.contains(&format!("    pair_quads4(a, {k}u, &best);")), "quad slot {k}");
+            assert!(flat.contains(&format!("    pair_quads4(flat, a, {k}u, &best);")), "quad slot {k}");
         }
     }
 
