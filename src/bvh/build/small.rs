@@ -84,8 +84,7 @@ pub(super) fn build_small(prims: &mut [Prim], first: usize, node: usize, depth: 
         nodes[node].left_first = first as u32;
         nodes[node].count = n as u32;
     };
-    let leaf_size = if policy.sah_leaves { MAX_LEAF } else { policy.leaf };
-    if n <= MAX_LEAF && (n <= leaf_size && !policy.sah_leaves || n < 2 || depth + 1 >= policy.max_depth) {
+    if n <= MAX_LEAF && ((!policy.sah_leaves && n <= policy.leaf) || n < 2 || depth + 1 >= policy.max_depth) {
         make_leaf(nodes);
         return;
     }
