@@ -20,8 +20,8 @@
 // A sample holding NaN or Inf is not accumulated (the pixel keeps its
 // history); negative radiance counts as 0; clamp_max > 0 scales samples
 // brighter than it down to it (a firefly clamp, biased; 0 = off).
-#import frame
 #import mean
+#import reproject
 
 struct Params {
     mode: u32, // ui: 0..1 "mode (0 reset, 1 reproject)"
@@ -66,40 +66,10 @@ fn load_history(q: vec2i) -> History {
     return History(m, c.a);
 }
 
-fn oct_encode(n: vec3f) -> vec2f {
-    let l1 = abs(n.x) + abs(n.y) + abs(n.z);
-    if l1 == 0.0 {
-        return vec2f(0.0);
-    }
-    var p = n.xy / l1;
-    if n.z < 0.0 {
-        p = (1.0 - abs(p.yx)) * select(vec2f(-1.0), vec2f(1.0), p >= vec2f(0.0));
-    }
-    return p;
-}
-
-fn oct_decode(p: vec2f) -> vec3f {
-    var n = vec3f(p, 1.0 - abs(p.x) - abs(p.y));
-    if n.z < 0.0 {
-        n = vec3f((1.0 - abs(n.yx)) * select(vec2f(-1.0), vec2f(1.0), n.xy >= vec2f(0.0)), n.z);
-    }
-    let l = length(n);
-    return select(n / l, vec3f(0.0), l == 0.0);
-}
-
 // Whether history texel `q`, whose `geo` record is `g`, saw the same
 // surface as this pixel's hit `p` (normal `n`), or, for a miss, also a miss.
 fn agrees(q: vec2i, g: vec4f, p: vec3f, n: vec3f, miss: bool) -> bool {
-    if miss || g.z < 0.0 {
-        return miss && g.z < 0.0;
-    }
-    if dot(oct_decode(g.xy), n) < params.normal_cos {
-        return false;
-    }
-    // The texel's hit, rebuilt through its centre (its jitter is unknown;
-    // the error lies along the surface, not across it).
-    let q_pos = frame.prev_camera.origin + g.z * camera_dir(frame.prev_camera, vec2u(q), vec2f(0.5));
-    return abs(dot(q_pos - p, n)) <= params.depth_tol * length(p - frame.prev_camera.origin);
+    return same_surface(q, g, p, n, miss, params.normal_cos, params.depth_tol);
 }
 
 // Last frame's history at this pixel, or none: the mean and compensation
@@ -204,7 +174,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         }
     }
     let count = add_sample(id.xy, history);
-    textureStore(geo, id.xy, vec4f(oct_encode(n), select(g.w, -1.0, g.w < 0.0), f32(count)));
+    textureStore(geo, id.xy, vec4f(normal_to_oct(n), select(g.w, -1.0, g.w < 0.0), f32(count)));
 }
 
 // Mode 0 alone, without the geometry: `src` into the pixel's own history,

@@ -62,6 +62,17 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             "ddgi_state" => *p = [p[0] * 2.0 + 0.5, p[1] * 2.0 + 0.5, p[2] * 2.0 + 0.5, 1.0],
             // Edge strengths and the mask: one channel shown grey.
             "edges" | "edges_h" | "edges_blur" | "mask" => *p = [p[0], p[0], p[0], 1.0],
+            // The real-time denoiser's history and steps (realtime.ron):
+            // their colours as they are; w holds a count, a moment or a
+            // variance, left out.
+            "rt_illum" | "rt_color" | "rt_albedo" | "filt_0" | "filt_1" | "filt_2" | "filt_3" | "filt_4" | "filt_5" => p[3] = 1.0,
+            "rt_geo" => *p = [p[0] * 0.5 + 0.5, p[1] * 0.5 + 0.5, p[2] / 8.0, 1.0],
+            // f32 bits and a packed normal: shown as which pixels the
+            // filters treat as a surface (white).
+            "guide" => {
+                let v = if p[3] as u32 == u32::MAX { 0.0 } else { 1.0 };
+                *p = [v, v, v, 1.0];
+            }
             // -1 not specular (black), 0 shaded (grey), 1 reused (white).
             "reflect_reuse" => {
                 let v = (p[0] + 1.0) * 0.5;
@@ -169,6 +180,8 @@ fn golden_images_of_every_pass() {
         ("hybrid-point.ron", "moving-lights.ron"),
         ("irradiance.ron", "cornell.ron"),
         ("hybrid-gi.ron", "cornell.ron"),
+        ("realtime.ron", "cornell.ron"),
+        ("realtime.ron", "moving-lights.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }

@@ -14,12 +14,11 @@ use std::mem::{offset_of, size_of};
 fn every_shader_validates() {
     let dir = repo().join("shaders");
     let mut n = 0;
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let name = entry.unwrap().file_name().into_string().unwrap();
-        if name.ends_with(".wgsl") {
-            glint::shader::load(&dir, &name).unwrap_or_else(|e| panic!("{e}"));
-            n += 1;
-        }
+    let passes = glint::shader::source::pass_shaders(&dir).unwrap();
+    assert!(passes.iter().any(|p| p.starts_with("realtime/")), "the shaders in folders are listed: {passes:?}");
+    for name in passes {
+        glint::shader::load(&dir, &name).unwrap_or_else(|e| panic!("{e}"));
+        n += 1;
     }
     for entry in std::fs::read_dir(dir.join("shared")).unwrap() {
         let name = entry.unwrap().file_name().into_string().unwrap();

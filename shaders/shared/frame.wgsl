@@ -38,6 +38,10 @@ struct Frame {
     // offset_ray's near-origin threshold and fixed offset grow with it, so
     // a scene scaled by s offsets its rays by s too (src/bvh/offset.rs).
     offset_scale: f32,
+    // Frames since history was last dropped (a new session, a restart, a
+    // reset): 0 = no history texture holds anything yet. Camera motion
+    // and scene changes do not reset it (see epoch_frames for those).
+    history_frames: u32,
     // The graph's probe grid (`probes:` in a graph), relative to the scene
     // origin: probe (0,0,0), the spacing, probes per axis (0: no probes).
     probe_origin: vec3f,

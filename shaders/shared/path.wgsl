@@ -9,11 +9,13 @@
 
 // The first hit of the last path traced, as the G-buffer stores it:
 // position and distance (direction and -1 on a miss), and the normal
-// facing the ray with the specular share in w. Kept only with FIRST_HIT
-// (the path tracer's, for accumulation that reprojects).
+// facing the ray with the specular share in w, and the (material, object)
+// ids (NO_HIT for the object on a miss). Kept only with FIRST_HIT (the
+// path tracer's, for accumulation that reprojects or a denoiser).
 override FIRST_HIT: bool = true;
 var<private> path_primary_pos: vec4f;
 var<private> path_primary_normal: vec4f;
+var<private> path_primary_ids: vec2u;
 
 // a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
 // the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
@@ -76,6 +78,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
         path_primary_normal = select(vec4f(facing, m.specular), vec4f(0.0), !hit_found(hit));
+        path_primary_ids = select(vec2u(hit.material, hit.object), vec2u(NO_HIT), !hit_found(hit));
     }
     if !hit_found(hit) {
         (*st).result += (*st).throughput * frame.background;

@@ -2,11 +2,11 @@
 // and shaders/pathtrace_gbuffer.wgsl: its params, its radiance output, the
 // `main` and `main_more` entries. The importing shader defines the hook
 // below, which `main` calls once per pixel with the camera ray's first hit
-// (shared/path.wgsl's path_primary_pos / path_primary_normal, kept with
+// (shared/path.wgsl's path_primary_pos / _normal / _ids, kept with
 // FIRST_HIT): pathtrace.wgsl drops it, pathtrace_gbuffer.wgsl stores it
 // as the G-buffer does. So a graph binds the G-buffer only where a pass
 // of it reads one.
-// hook: fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f)
+// hook: fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec2u)
 #import path
 
 struct Params {
@@ -57,6 +57,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     var hit = trace_closest_through(pixel, st.rd, 3.0e38);
     path_primary_pos = vec4f(0.0);
     path_primary_normal = vec4f(0.0);
+    path_primary_ids = vec2u(NO_HIT);
     loop {
         var b = ended_bounce();
         if st.depth < max_depth {
@@ -89,7 +90,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             s += 1u;
             if pixel_done {
                 textureStore(radiance, pixel, vec4f(sum / f32(spp), 1.0));
-                store_first_hit(pixel, path_primary_pos, path_primary_normal);
+                store_first_hit(pixel, path_primary_pos, path_primary_normal, path_primary_ids);
                 if lane_done {
                     break;
                 }
@@ -101,6 +102,8 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             st = new_path(ro, rd);
             path_primary_pos = vec4f(0.0);
             path_primary_normal = vec4f(0.0);
+            path_primary_ids = vec2u(NO_HIT);
+    path_primary_ids = vec2u(NO_HIT);
         } else {
             st.depth += 1u;
         }

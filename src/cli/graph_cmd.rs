@@ -63,14 +63,7 @@ pub fn check_shaders(files: Vec<String>, dir: Option<PathBuf>) -> Result<(), Use
     }
 }
 
-/// The pass shaders directly in `dir` (not shared/), sorted.
+/// The pass shaders under `dir` (`shader::source::pass_shaders`).
 pub fn shader_files(dir: &std::path::Path) -> Result<Vec<String>, UserError> {
-    let entries = std::fs::read_dir(dir).map_err(|e| UserError::in_file(dir, format!("cannot list shaders: {e}")))?;
-    let mut files: Vec<String> = entries
-        .filter_map(|e| e.ok())
-        .filter_map(|e| e.file_name().into_string().ok())
-        .filter(|n| n.ends_with(".wgsl"))
-        .collect();
-    files.sort();
-    Ok(files)
+    crate::shader::source::pass_shaders(dir).map_err(|e| UserError::in_file(dir, format!("cannot list shaders: {e}")))
 }

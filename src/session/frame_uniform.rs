@@ -90,7 +90,12 @@ pub struct FrameGpu {
     pub exact_one: f32,
     /// The scene's ray-offset scale (`bvh::offset::offset_scale`).
     pub offset_scale: f32,
-    pub _pad: [f32; 2],
+    /// Frames since history was last dropped (a new session, a restart or
+    /// `reset_accumulation`): 0 = no history texture holds anything yet.
+    /// Neither camera motion nor scene changes reset it, so a denoiser
+    /// that judges staleness itself keeps its history while lights move.
+    pub history_frames: u32,
+    pub _pad: f32,
     /// The graph's probe grid (see `probes::ProbeGrid`), relative to the
     /// scene's origin like every position: probe (0, 0, 0), the spacing,
     /// probes per axis (0 for a graph without probes).

@@ -101,6 +101,7 @@ struct FrameState {
     frame_index: u32,
     accum_count: u32,
     epoch_frames: u32,
+    history_frames: u32,
     /// Last frame's camera (world, f64: re-expressed relative to the
     /// current origin each frame, so a rebase keeps reprojection right) and
     /// scene epoch.
@@ -231,7 +232,8 @@ impl Session {
             epoch_frames: st.epoch_frames,
             exact_one: 1.0,
             offset_scale: self.scene.offset_scale,
-            _pad: [0.0; 2],
+            history_frames: st.history_frames,
+            _pad: 0.0,
             probe_origin: grid.map_or([0.0; 3], |g| g.origin.to_array()),
             probe_n: grid.map_or(0, |g| g.counts.x),
             probe_spacing: grid.map_or([0.0; 3], |g| g.spacing.to_array()),
@@ -247,6 +249,7 @@ impl Session {
         st.frame_index = st.frame_index.wrapping_add(1);
         st.accum_count = st.accum_count.saturating_add(1);
         st.epoch_frames = st.epoch_frames.saturating_add(1);
+        st.history_frames = st.history_frames.saturating_add(1);
         timings
     }
 
@@ -259,6 +262,7 @@ impl Session {
     pub fn reset_accumulation(&mut self) {
         self.state.accum_count = 0;
         self.state.epoch_frames = 0;
+        self.state.history_frames = 0;
     }
 
     /// Starts over as a new session would: history dropped and the frame

@@ -57,6 +57,32 @@ pub fn is_inside(name: &str) -> bool {
     !name.is_empty() && Path::new(name).components().all(|c| matches!(c, std::path::Component::Normal(_)))
 }
 
+/// The pass shaders under `dir`, as a graph names them, sorted: the
+/// `.wgsl` files in it and in its folders one level down (`realtime/x.wgsl`),
+/// except `shared/`, which holds imported modules, not passes.
+pub fn pass_shaders(dir: &Path) -> std::io::Result<Vec<String>> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let Ok(name) = entry.file_name().into_string() else { continue };
+        if entry.file_type()?.is_dir() {
+            if name == "shared" {
+                continue;
+            }
+            for inner in std::fs::read_dir(entry.path())? {
+                let Ok(inner) = inner?.file_name().into_string() else { continue };
+                if inner.ends_with(".wgsl") {
+                    files.push(format!("{name}/{inner}"));
+                }
+            }
+        } else if name.ends_with(".wgsl") {
+            files.push(name);
+        }
+    }
+    files.sort();
+    Ok(files)
+}
+
 /// Loads `dir/name` and expands its imports from `dir/shared/`. `name`
 /// must stay inside `dir`: a relative path without `..` (a graph must not
 /// read `/etc/passwd` as a shader).

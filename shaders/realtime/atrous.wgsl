@@ -1,0 +1,56 @@
+// One iteration of the denoiser's edge-stopping à-trous wavelet filter
+// (SVGF): a 3x3 B-spline kernel with its taps STEP pixels apart (the
+// graph runs it at steps 1, 2, 4, 8, 16), each tap weighted by its surface
+// (normal and plane, shared/realtime_common.wgsl) and by how far its
+// demodulated colour lies from this pixel's in units of this pixel's
+// standard deviation (the variance of its mean, `filtered_in`.w). The
+// variance is filtered with the squared weights for the next iteration.
+#import realtime_common
+
+override STEP: i32 = 1;
+
+struct Params {
+    sigma_l: f32, // ui: 0.5..64 log "luminance sigma"
+    depth_sigma: f32, // ui: 0.1..16 log "depth sigma (pixel footprints)"
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var filtered_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var guide: texture_storage_2d<rgba32uint, read>;
+@group(0) @binding(3) var filtered: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(128, 1)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let p = vec2i(id.xy);
+    let own = textureLoad(filtered_in, p);
+    let gp = load_guide(guide, p);
+    let size = vec2i(frame.size);
+    // 1/4, 1/2, 1/4 in each axis; the centre's weight is (1/2)^2.
+    var sum = 0.25 * own.rgb;
+    var var_sum = 0.0625 * own.a;
+    var wsum = 0.25;
+    let scale = 1.0 / (params.sigma_l * sqrt(own.a) + 1e-20);
+    // Taps off the centre, where a lane has a surface to filter.
+    let taps = select(0u, 9u, gp.surface) * u32(frame.exact_one);
+    for (var k = 0u; k < taps; k++) {
+        let d = vec2i(i32(k % 3u) - 1, i32(k / 3u) - 1);
+        if all(d == vec2i(0)) {
+            continue;
+        }
+        let q = p + d * STEP;
+        if any(q < vec2i(0)) || any(q >= size) {
+            continue;
+        }
+        let tap = textureLoad(filtered_in, q);
+        let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
+        let colour = max(abs(tap.r - own.r), max(abs(tap.g - own.g), abs(tap.b - own.b)));
+        let w = kernel * geometry_weight(gp, load_guide(guide, q), f32(STEP) * length(vec2f(d)), params.depth_sigma) * exp(-colour * scale);
+        sum += w * tap.rgb;
+        var_sum += w * w * tap.a;
+        wsum += w;
+    }
+    textureStore(filtered, id.xy, vec4f(sum / wsum, var_sum / (wsum * wsum)));
+}

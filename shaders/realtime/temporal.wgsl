@@ -1,0 +1,201 @@
+// The denoiser's temporal step (SVGF, Schied et al. 2017): this frame's
+// path-traced sample, demodulated by its first hit's albedo, joins the
+// pixel's reprojected history as a running mean, with the luminance's
+// second moment for the variance and the history length.
+//
+// What each history texture keeps, per pixel (all means over the same
+// `n` samples):
+//   illum:  the demodulated radiance I (radiance / albedo), n in w;
+//   color:  the radiance R itself (the unbiased mean remodulate falls back
+//           to as the filter fades), the second moment of lum(I) in w;
+//   albedo: the first hit's albedo A (jittered rays see both sides of an
+//           edge), a fast (exponential) mean of lum(I) in w;
+//   geo:    the octahedral normal and hit distance (-1: no lit surface),
+//           for the next frame's reprojection.
+//
+// History is kept while lights move: instead of dropping it all whenever
+// the scene changes (accumulate.wgsl), each pixel judges its own. While
+// the scene moves its history is capped at `moving_history` samples; in
+// the `stale_frames` frames after a change, a pixel whose fast mean has
+// left its long mean by more than `stale_sigma` standard deviations of the
+// fast mean (plus 10%) starts over, once it holds 8 samples, (an equivalent of A-SVGF's temporal
+// gradients that needs no second shading). A still scene never starts a
+// pixel over, so a still image converges to the path tracer's mean.
+//
+// Also writes `guide`, what the spatial passes test neighbours with: the
+// hit relative to the camera (f32 bits) and the packed octahedral normal
+// (NO_SURFACE for misses and lights, which the filters leave alone).
+#import scene
+#import reproject
+#import finite
+#import realtime_common
+
+struct Params {
+    normal_cos: f32, // ui: 0..1 "normal cos"
+    depth_tol: f32, // ui: 0.0001..0.1 log "depth tolerance"
+    max_history: u32, // ui: 0..4096 "max history (0: none)"
+    moving_history: u32, // ui: 0..256 "history while the scene moves (0: no cap)"
+    stale_sigma: f32, // ui: 0..16 "stale test (sigmas, 0: off)"
+    stale_frames: u32, // ui: 0..64 "stale test frames after a change"
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+@group(0) @binding(4) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(5) var illum_prev: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(6) var color_prev: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(7) var albedo_prev: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(8) var geo_prev: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(9) var illum: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(10) var color: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(11) var albedo: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(12) var geo: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(13) var guide: texture_storage_2d<rgba32uint, write>;
+
+// The fast mean's weight for a new sample.
+const FAST_ALPHA: f32 = 0.25;
+
+// A pixel's history, or this frame's sample as one.
+struct State {
+    illum: vec3f,
+    color: vec3f,
+    albedo: vec3f,
+    m2: f32,
+    fast: f32,
+    n: f32,
+}
+
+fn no_state() -> State {
+    return State(vec3f(0.0), vec3f(0.0), vec3f(0.0), 0.0, 0.0, 0.0);
+}
+
+fn load_state(q: vec2i) -> State {
+    let i = textureLoad(illum_prev, q);
+    let c = textureLoad(color_prev, q);
+    let a = textureLoad(albedo_prev, q);
+    let s = State(i.rgb, c.rgb, a.rgb, c.a, a.a, i.a);
+    // History that is not finite (it should never be) starts over.
+    if !all_finite(s.illum) || !all_finite(s.color) || !all_finite(vec3f(s.m2, s.fast, s.n)) {
+        return no_state();
+    }
+    return s;
+}
+
+// Weighted sum of states (the bilinear blend of history taps).
+fn blend(a: State, b: State, w: f32) -> State {
+    return State(a.illum + w * b.illum, a.color + w * b.color, a.albedo + w * b.albedo, a.m2 + w * b.m2, a.fast + w * b.fast, a.n + w * b.n);
+}
+
+// Last frame's history at this pixel: the bilinear taps around where its
+// hit was last frame that saw the same surface, blended; the length the
+// smallest of theirs (never more samples than the least-sampled tap had).
+// View-dependent pixels (a specular share) keep none once the camera moves.
+fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> State {
+    let miss = g.w < 0.0;
+    let now = project(frame.camera, select(g.xyz, frame.camera.origin + g.xyz, miss));
+    let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
+    if then.z <= 0.0 {
+        return no_state();
+    }
+    let motion = then.xy - now.xy;
+    let still = all(motion == vec2f(0.0));
+    if view_dependent && !still {
+        return no_state();
+    }
+    let base = vec2f(pixel) + motion;
+    let i0 = vec2i(floor(base));
+    let f = base - floor(base);
+    let size = vec2i(frame.size);
+    var sum = no_state();
+    var count = 3.0e38;
+    var weight = 0.0;
+    // Only the taps with weight (see accumulate.wgsl: a loop, not ifs).
+    let nx = select(1u, 2u, f.x > 0.0);
+    let taps = nx * select(1u, 2u, f.y > 0.0) * u32(frame.exact_one);
+    for (var k = 0u; k < taps; k++) {
+        let d = vec2i(i32(k & (nx - 1u)), i32(k >> (nx - 1u)));
+        let q = i0 + d;
+        let w = select(1.0 - f.x, f.x, d.x == 1) * select(1.0 - f.y, f.y, d.y == 1);
+        if w <= 0.0 || any(q < vec2i(0)) || any(q >= size) {
+            continue;
+        }
+        if !still && !same_surface(q, textureLoad(geo_prev, q), g.xyz, n, miss, params.normal_cos, params.depth_tol) {
+            continue;
+        }
+        let h = load_state(q);
+        sum = blend(sum, h, w);
+        count = min(count, h.n);
+        weight += w;
+    }
+    if weight < 1e-3 || count < 1.0 {
+        return no_state();
+    }
+    var h = blend(no_state(), sum, 1.0 / weight);
+    h.n = count;
+    return h;
+}
+
+@compute @workgroup_size(128, 1)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let g = textureLoad(gbuf_pos, id.xy);
+    let nw = textureLoad(gbuf_normal, id.xy);
+    let ids = textureLoad(gbuf_id, id.xy);
+    let miss = g.w < 0.0;
+    let surface = !miss && is_lit_surface(ids);
+    let a = select(vec3f(0.0), load_material(ids.x).albedo, surface);
+    // Demodulated: the radiance over the albedo, channels without albedo 0
+    // (remodulation multiplies them by it again).
+    var l = textureLoad(radiance, id.xy).rgb;
+    let valid = all_finite(l);
+    l = select(vec3f(0.0), max(l, vec3f(0.0)), valid);
+    let i_s = select(vec3f(0.0), l / max(a, vec3f(1e-3)), a > vec3f(1e-3));
+    let lum_s = luminance(i_s);
+
+    var h = no_state();
+    if frame.history_frames > 0u {
+        h = reprojected(id.xy, g, nw.xyz, nw.w > 0.0);
+    }
+    var n = h.n;
+    if params.max_history > 0u {
+        n = min(n, f32(params.max_history));
+    }
+    if frame.epoch_frames == 0u && params.moving_history > 0u {
+        n = min(n, f32(params.moving_history));
+    }
+    var fast = mix(h.fast, lum_s, FAST_ALPHA);
+    // Stale: the fast mean left the long one by more than the fast mean's
+    // own noise could (its variance is FAST_ALPHA / (2 - FAST_ALPHA) of a
+    // sample's), only just after the scene changed.
+    let m1 = luminance(h.illum);
+    let var_s = max(h.m2 - m1 * m1, 0.0);
+    let sigma_fast = sqrt(var_s * FAST_ALPHA / (2.0 - FAST_ALPHA));
+    // (A change since the history began: at the start both counts are 0.)
+    let recent = frame.epoch_frames < params.stale_frames && frame.epoch_frames < frame.history_frames;
+    if recent && params.stale_sigma > 0.0 && n >= 8.0 && abs(fast - m1) > params.stale_sigma * sigma_fast + 0.1 * m1 {
+        n = 0.0;
+        fast = lum_s;
+    }
+    if n == 0.0 {
+        fast = lum_s;
+    }
+    if valid {
+        let k = 1.0 / (n + 1.0);
+        h.illum = mix(h.illum, i_s, k);
+        h.color = mix(h.color, l, k);
+        h.albedo = mix(h.albedo, a, k);
+        h.m2 = mix(h.m2, lum_s * lum_s, k);
+        n += 1.0;
+    }
+    h.fast = fast;
+    textureStore(illum, id.xy, vec4f(h.illum, n));
+    textureStore(color, id.xy, vec4f(h.color, h.m2));
+    textureStore(albedo, id.xy, vec4f(h.albedo, h.fast));
+    textureStore(geo, id.xy, vec4f(normal_to_oct(nw.xyz), select(g.w, -1.0, miss), 0.0));
+    let rel = g.xyz - frame.camera.origin;
+    textureStore(guide, id.xy, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack2x16snorm(normal_to_oct(nw.xyz)), surface)));
+}
