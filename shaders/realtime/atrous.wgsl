@@ -2,8 +2,9 @@
 // (SVGF): a 3x3 B-spline kernel with its taps STEP pixels apart (the
 // graph runs it at steps 1, 2, 4, 8, 16), each tap weighted by its surface
 // (normal and plane, shared/realtime_common.wgsl) and by how far its
-// demodulated colour lies from this pixel's in units of this pixel's
-// standard deviation (the variance of its mean, `filtered_in`.w). The
+// demodulated colour lies from this pixel's in units of the standard
+// deviation of their difference (the variances of the two means,
+// `filtered_in`.w). The
 // variance is filtered with the squared weights for the next iteration.
 #import realtime_common
 
@@ -32,7 +33,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     var sum = 0.25 * own.rgb;
     var var_sum = 0.0625 * own.a;
     var wsum = 0.25;
-    let scale = 1.0 / (params.sigma_l * sqrt(own.a) + 1e-20);
     // Taps off the centre, where a lane has a surface to filter.
     let taps = select(0u, 9u, gp.surface) * u32(frame.exact_one);
     for (var k = 0u; k < taps; k++) {
@@ -47,6 +47,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         let tap = textureLoad(filtered_in, q);
         let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
         let colour = max(abs(tap.r - own.r), max(abs(tap.g - own.g), abs(tap.b - own.b)));
+        // In units of the difference's own deviation (both means' noise):
+        // a symmetric test, so a noisy pixel that its neighbours smooth
+        // also spreads into them and the filter keeps the image's energy.
+        let scale = 1.0 / (params.sigma_l * sqrt(own.a + tap.a) + 1e-20);
         let w = kernel * geometry_weight(gp, load_guide(guide, q), f32(STEP) * length(vec2f(d)), params.depth_sigma) * exp(-colour * scale);
         sum += w * tap.rgb;
         var_sum += w * w * tap.a;

@@ -9,18 +9,21 @@
 //   color:  the radiance R itself (the unbiased mean remodulate falls back
 //           to as the filter fades), the second moment of lum(I) in w;
 //   albedo: the first hit's albedo A (jittered rays see both sides of an
-//           edge), a fast (exponential) mean of lum(I) in w;
+//           edge);
 //   geo:    the octahedral normal and hit distance (-1: no lit surface),
-//           for the next frame's reprojection.
+//           for the next frame's reprojection, and this frame's sample
+//           luminance in w, for the next frame's gradients.
 //
 // History is kept while lights move: instead of dropping it all whenever
-// the scene changes (accumulate.wgsl), each pixel judges its own. While
-// the scene moves its history is capped at `moving_history` samples; in
-// the `stale_frames` frames after a change, a pixel whose fast mean has
-// left its long mean by more than `stale_sigma` standard deviations of the
-// fast mean (plus 10%) starts over, once it holds 8 samples, (an equivalent of A-SVGF's temporal
-// gradients that needs no second shading). A still scene never starts a
-// pixel over, so a still image converges to the path tracer's mean.
+// the scene changes (accumulate.wgsl), each pixel keeps what is still
+// right. In a frame whose scene changed, the temporal gradients
+// (gradient.wgsl: last frame's paths traced again in the changed scene)
+// of the 3x3 strata around where the pixel was last frame give the share
+// of its light that changed, lambda; its history is cut to at most
+// (1 - g lambda) / (g lambda) samples (g `gradient_gain`), so that the new
+// sample weighs at least g lambda (A-SVGF's alpha). While the scene moves
+// the history is also capped at `moving_history`. A still scene keeps it
+// all, so a still image converges to the path tracer's mean.
 //
 // Also writes `guide`, what the spatial passes test neighbours with: the
 // hit relative to the camera (f32 bits) and the packed octahedral normal
@@ -35,8 +38,7 @@ struct Params {
     depth_tol: f32, // ui: 0.0001..0.1 log "depth tolerance"
     max_history: u32, // ui: 0..4096 "max history (0: none)"
     moving_history: u32, // ui: 0..256 "history while the scene moves (0: no cap)"
-    stale_sigma: f32, // ui: 0..16 "stale test (sigmas, 0: off)"
-    stale_frames: u32, // ui: 0..64 "stale test frames after a change"
+    gradient_gain: f32, // ui: 0..16 "gradient gain (0: gradients off)"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -53,9 +55,16 @@ struct Params {
 @group(0) @binding(11) var albedo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(12) var geo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(13) var guide: texture_storage_2d<rgba32uint, write>;
+@group(0) @binding(14) var gradient: texture_storage_2d<rgba32float, read>;
 
-// The fast mean's weight for a new sample.
-const FAST_ALPHA: f32 = 0.25;
+// Pixels per side of a gradient stratum (gradient.wgsl).
+const STRATUM: f32 = 3.0;
+
+// Whether the scene changed since last frame, with a last frame in the
+// history (a new session's first frame has none).
+fn scene_changed() -> bool {
+    return frame.epoch_frames == 0u && frame.history_frames > 0u;
+}
 
 // A pixel's history, or this frame's sample as one.
 struct State {
@@ -63,21 +72,20 @@ struct State {
     color: vec3f,
     albedo: vec3f,
     m2: f32,
-    fast: f32,
     n: f32,
 }
 
 fn no_state() -> State {
-    return State(vec3f(0.0), vec3f(0.0), vec3f(0.0), 0.0, 0.0, 0.0);
+    return State(vec3f(0.0), vec3f(0.0), vec3f(0.0), 0.0, 0.0);
 }
 
 fn load_state(q: vec2i) -> State {
     let i = textureLoad(illum_prev, q);
     let c = textureLoad(color_prev, q);
     let a = textureLoad(albedo_prev, q);
-    let s = State(i.rgb, c.rgb, a.rgb, c.a, a.a, i.a);
+    let s = State(i.rgb, c.rgb, a.rgb, c.a, i.a);
     // History that is not finite (it should never be) starts over.
-    if !all_finite(s.illum) || !all_finite(s.color) || !all_finite(vec3f(s.m2, s.fast, s.n)) {
+    if !all_finite(s.illum) || !all_finite(s.color) || !all_finite(vec3f(s.m2, s.n, 0.0)) {
         return no_state();
     }
     return s;
@@ -85,7 +93,7 @@ fn load_state(q: vec2i) -> State {
 
 // Weighted sum of states (the bilinear blend of history taps).
 fn blend(a: State, b: State, w: f32) -> State {
-    return State(a.illum + w * b.illum, a.color + w * b.color, a.albedo + w * b.albedo, a.m2 + w * b.m2, a.fast + w * b.fast, a.n + w * b.n);
+    return State(a.illum + w * b.illum, a.color + w * b.color, a.albedo + w * b.albedo, a.m2 + w * b.m2, a.n + w * b.n);
 }
 
 // Last frame's history at this pixel: the bilinear taps around where its
@@ -121,7 +129,11 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> State 
         if w <= 0.0 || any(q < vec2i(0)) || any(q >= size) {
             continue;
         }
-        if !still && !same_surface(q, textureLoad(geo_prev, q), g.xyz, n, miss, params.normal_cos, params.depth_tol) {
+        // A still camera in a still scene sees the same surfaces (testing
+        // would drop silhouettes, whose jittered hits differ); after a
+        // scene change it may not: what moved (a light's own pixels, an
+        // object) is tested.
+        if (!still || scene_changed()) && !same_surface(q, textureLoad(geo_prev, q), g.xyz, n, miss, params.normal_cos, params.depth_tol) {
             continue;
         }
         let h = load_state(q);
@@ -135,6 +147,23 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> State 
     var h = blend(no_state(), sum, 1.0 / weight);
     h.n = count;
     return h;
+}
+
+// The share of the light around last frame's pixel position `then`
+// that changed this frame: the 3x3 gradient strata around it, summed.
+fn changed_share(then: vec2f) -> f32 {
+    let c = vec2i(floor(then / STRATUM));
+    let strata = vec2i(textureDimensions(gradient));
+    var diff = 0.0;
+    var scale = 0.0;
+    let taps = 9u * u32(frame.exact_one);
+    for (var k = 0u; k < taps; k++) {
+        let q = clamp(c + vec2i(i32(k % 3u) - 1, i32(k / 3u) - 1), vec2i(0), strata - 1);
+        let g = textureLoad(gradient, q);
+        diff += g.x;
+        scale += g.y;
+    }
+    return select(0.0, clamp(diff / scale, 0.0, 1.0), scale > 0.0);
 }
 
 @compute @workgroup_size(128, 1)
@@ -167,21 +196,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if frame.epoch_frames == 0u && params.moving_history > 0u {
         n = min(n, f32(params.moving_history));
     }
-    var fast = mix(h.fast, lum_s, FAST_ALPHA);
-    // Stale: the fast mean left the long one by more than the fast mean's
-    // own noise could (its variance is FAST_ALPHA / (2 - FAST_ALPHA) of a
-    // sample's), only just after the scene changed.
-    let m1 = luminance(h.illum);
-    let var_s = max(h.m2 - m1 * m1, 0.0);
-    let sigma_fast = sqrt(var_s * FAST_ALPHA / (2.0 - FAST_ALPHA));
-    // (A change since the history began: at the start both counts are 0.)
-    let recent = frame.epoch_frames < params.stale_frames && frame.epoch_frames < frame.history_frames;
-    if recent && params.stale_sigma > 0.0 && n >= 8.0 && abs(fast - m1) > params.stale_sigma * sigma_fast + 0.1 * m1 {
-        n = 0.0;
-        fast = lum_s;
-    }
-    if n == 0.0 {
-        fast = lum_s;
+    if scene_changed() && params.gradient_gain > 0.0 && n > 0.0 {
+        let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
+        let lambda = min(params.gradient_gain * changed_share(then.xy), 1.0);
+        n = min(n, (1.0 - lambda) / max(lambda, 1e-6));
     }
     if valid {
         let k = 1.0 / (n + 1.0);
@@ -191,11 +209,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         h.m2 = mix(h.m2, lum_s * lum_s, k);
         n += 1.0;
     }
-    h.fast = fast;
     textureStore(illum, id.xy, vec4f(h.illum, n));
     textureStore(color, id.xy, vec4f(h.color, h.m2));
-    textureStore(albedo, id.xy, vec4f(h.albedo, h.fast));
-    textureStore(geo, id.xy, vec4f(normal_to_oct(nw.xyz), select(g.w, -1.0, miss), 0.0));
+    textureStore(albedo, id.xy, vec4f(h.albedo, 1.0));
+    textureStore(geo, id.xy, vec4f(normal_to_oct(nw.xyz), select(g.w, -1.0, miss), luminance(l)));
     let rel = g.xyz - frame.camera.origin;
     textureStore(guide, id.xy, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack2x16snorm(normal_to_oct(nw.xyz)), surface)));
 }

@@ -69,10 +69,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             // history is this short (SVGF's 4 / n).
             var_mean = max(s2 / wsum - mu * mu, 0.0) * (params.min_history / n);
         } else {
-            // The moments' estimate, or the neighbours' spread where that
-            // is larger (a few samples' moments often miss the tail).
-            let mu = s1 / wsum;
-            var_mean = max(var_sum / wsum, s2 / wsum - mu * mu);
+            // The moments' estimate alone: the neighbours' spread would
+            // hold their real differences too, which do not fall with
+            // history, and the filter would never fade.
+            var_mean = var_sum / wsum;
         }
     }
     textureStore(filtered, id.xy, vec4f(value, var_mean));

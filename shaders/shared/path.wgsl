@@ -16,6 +16,20 @@ override FIRST_HIT: bool = true;
 var<private> path_primary_pos: vec4f;
 var<private> path_primary_normal: vec4f;
 var<private> path_primary_ids: vec2u;
+// With THROUGH_MIRRORS, the first hit recorded is the first one past any
+// perfect mirrors (specular share 1, roughness 0: a path goes on from them
+// in one direction only), with the specular share 1 in the normal's w (what
+// it shows depends on the view): a denoiser then filters what a mirror
+// shows as the surface it shows, and keeps the reflection sharp. While
+// `path_primary_open`, the path has met only such mirrors.
+override THROUGH_MIRRORS: bool = false;
+var<private> path_primary_open: bool;
+
+// The path tracer's random streams (shared/path_render.wgsl): a pixel's
+// path in frame f draws from rng_at(rng_frame_key(f, PATH_RENDER_SALT,
+// seed), pixel), so a pass can trace last frame's path again
+// (shaders/realtime/gradient.wgsl).
+const PATH_RENDER_SALT: u32 = 0x70617468u;
 
 // a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
 // the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
@@ -74,11 +88,13 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     // Loaded before the miss test (a miss has material 0): the G-buffer's
     // specular share comes from the same two texels.
     let m = load_material(hit.material);
-    if FIRST_HIT && depth == 0u {
+    if FIRST_HIT && (depth == 0u || (THROUGH_MIRRORS && path_primary_open)) {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-        path_primary_normal = select(vec4f(facing, m.specular), vec4f(0.0), !hit_found(hit));
+        let view_dependent = select(m.specular, 1.0, depth > 0u);
+        path_primary_normal = select(vec4f(facing, view_dependent), vec4f(0.0), !hit_found(hit));
         path_primary_ids = select(vec2u(hit.material, hit.object), vec2u(NO_HIT), !hit_found(hit));
+        path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0;
     }
     if !hit_found(hit) {
         (*st).result += (*st).throughput * frame.background;

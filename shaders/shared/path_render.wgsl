@@ -24,7 +24,6 @@ struct Params {
 // `radiance` again, for the later dispatches of a split frame (main_more).
 @group(0) @binding(4) var radiance_acc: texture_storage_2d<rgba32float, read_write>;
 
-const SALT: u32 = 0x70617468u;
 
 // The first dispatch (`main`) renders several texels per invocation, the
 // graph's `texels_per_invocation`: texels k, k + L, k + 2L, ... in row-major
@@ -49,7 +48,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     // a SIMD CPU driver divides integers one lane at a time, so the next
     // pixel is stepped to, not divided out, on every trip.
     let step = vec2u(lanes % frame.size.x, lanes / frame.size.x);
-    let rng_key = rng_frame_key(frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
+    let rng_key = rng_frame_key(frame.frame_index, PATH_RENDER_SALT + params.spp_done * 0x9e3779b9u, frame.seed);
     var rng = rng_at(rng_key, pixel);
     var s = 0u;
     var sum = vec3f(0.0);
@@ -58,6 +57,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     path_primary_pos = vec4f(0.0);
     path_primary_normal = vec4f(0.0);
     path_primary_ids = vec2u(NO_HIT);
+    path_primary_open = true;
     loop {
         var b = ended_bounce();
         if st.depth < max_depth {
@@ -103,7 +103,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             path_primary_pos = vec4f(0.0);
             path_primary_normal = vec4f(0.0);
             path_primary_ids = vec2u(NO_HIT);
-    path_primary_ids = vec2u(NO_HIT);
+            path_primary_open = true;
         } else {
             st.depth += 1u;
         }
@@ -122,7 +122,7 @@ fn main(@builtin(global_invocation_id) id: vec3u, @builtin(num_workgroups) group
 // a split frame draws its own random stream (the first one's is what an
 // unsplit frame draws).
 fn sample_sum(flat: ptr<function, FlatScene>, id: vec2u) -> vec3f {
-    var rng = rng_for(id, frame.frame_index, SALT + params.spp_done * 0x9e3779b9u, frame.seed);
+    var rng = rng_for(id, frame.frame_index, PATH_RENDER_SALT + params.spp_done * 0x9e3779b9u, frame.seed);
     let spp = max(params.spp, 1u);
     var sum = vec3f(0.0);
     for (var s = 0u; s < spp; s++) {

@@ -1,0 +1,154 @@
+//! The real-time graph's denoiser (passes/realtime.ron) on the GPU path:
+//! a still image tends to the path tracer's mean, the variance it filters
+//! by falls with history, and a light that jumps drops history where its
+//! light changed, and only there, without leaving a ghost.
+
+mod common;
+
+use common::*;
+use glint::gpu::readback::ImageF32;
+use glint::graph::CompileOptions;
+use glint::metrics;
+use glint::session::Session;
+
+const SIZE: (u32, u32) = (48, 48);
+
+fn realtime() -> std::path::PathBuf {
+    repo().join("passes/realtime.ron")
+}
+
+fn keep(resources: &[&str]) -> CompileOptions {
+    CompileOptions { keep: resources.iter().map(|r| r.to_string()).collect(), ..Default::default() }
+}
+
+fn read(s: &Session, resource: &str) -> ImageF32 {
+    s.read_resource(resource).unwrap_or_else(|| panic!("{resource} not kept")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn mean_luminance(img: &ImageF32) -> f64 {
+    img.data.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).sum::<f64>() / img.data.len() as f64
+}
+
+/// `frames` still frames of `graph` at `time`; its output.
+fn still(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, graph: &std::path::Path, frames: u32, time: f32) -> ImageF32 {
+    let compiled = compile(&scene, graph, &CompileOptions::default());
+    let mut s = session(gpu, scene, &compiled, SIZE, 1);
+    for _ in 0..frames {
+        s.frame(time);
+    }
+    s.read_output().unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn a_still_image_tends_to_the_path_tracers_mean() {
+    let Some(gpu) = gpu() else { return };
+    let reference = still(gpu, load_scene("cornell.ron"), &repo().join("passes/pathtrace.ron"), 512, 0.0);
+    let first = still(gpu, load_scene("cornell.ron"), &realtime(), 1, 0.0);
+    let converged = still(gpu, load_scene("cornell.ron"), &realtime(), 512, 0.0);
+    let (f1, _) = metrics::flip(&reference, &first);
+    let (f512, _) = metrics::flip(&reference, &converged);
+    let (l_ref, l_rt) = (mean_luminance(&reference), mean_luminance(&converged));
+    eprintln!("FLIP against pathtrace.ron at 512 frames: 1 frame {:.4}, 512 frames {:.4}; mean luminance {l_rt:.5} against {l_ref:.5}", f1.mean, f512.mean);
+    // The filter fades as history grows: what is left is both images' noise.
+    assert!(f512.mean < 0.5 * f1.mean, "512 frames ({:.4}) not far below 1 frame ({:.4})", f512.mean, f1.mean);
+    assert!(f512.mean < 0.06, "512 still frames are FLIP {:.4} from the path tracer's mean", f512.mean);
+    assert!((l_rt / l_ref - 1.0).abs() < 0.02, "mean luminance {l_rt} against the path tracer's {l_ref}: biased");
+}
+
+#[test]
+fn the_filters_variance_falls_with_history() {
+    let Some(gpu) = gpu() else { return };
+    let scene = load_scene("cornell-diffuse.ron");
+    let compiled = compile(&scene, &realtime(), &keep(&["filt_0", "rt_illum"]));
+    let mut s = session(gpu, scene, &compiled, SIZE, 1);
+    let mut means = Vec::new();
+    for frame in 1..=64u32 {
+        s.frame(0.0);
+        if frame == 16 || frame == 64 {
+            let v = read(&s, "filt_0");
+            let n = read(&s, "rt_illum");
+            means.push(v.data.iter().map(|p| p[3] as f64).sum::<f64>() / v.data.len() as f64);
+            // Every pixel's history holds every frame (a still camera).
+            assert!(n.data.iter().all(|p| p[3] == frame as f32), "history lengths after {frame} still frames: {:?}", n.data.iter().map(|p| p[3]).take(8).collect::<Vec<_>>());
+        }
+    }
+    eprintln!("mean variance of the pixel means: {:.3e} at 16 frames, {:.3e} at 64", means[0], means[1]);
+    // The variance of a mean of n samples falls as 1/n: 4x fewer frames,
+    // about 4x the variance (2x slack for the estimate's own noise).
+    assert!(means[1] < means[0] / 2.0, "variance did not fall with history: {means:?}");
+}
+
+/// A Cornell box lit by one sphere light that moves with `Linear` motion:
+/// at time 0 it is left of centre, at time 1 right of it.
+const JUMPING_LIGHT: &str = r#"Scene(
+    camera: Camera(position: (0.0, 0.0, 3.4), target: (0.0, 0.0, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 40.0),
+    materials: {
+        "white": Material(albedo: (0.725, 0.71, 0.68)),
+        "red":   Material(albedo: (0.63, 0.065, 0.05)),
+        "green": Material(albedo: (0.14, 0.45, 0.091)),
+    },
+    objects: [
+        Quad(vertices: [(-1.0, -1.0, -1.0), (-1.0, -1.0, 1.0), (1.0, -1.0, 1.0), (1.0, -1.0, -1.0)], material: "white"),
+        Quad(vertices: [(-1.0, 1.0, -1.0), (1.0, 1.0, -1.0), (1.0, 1.0, 1.0), (-1.0, 1.0, 1.0)], material: "white"),
+        Quad(vertices: [(-1.0, -1.0, -1.0), (1.0, -1.0, -1.0), (1.0, 1.0, -1.0), (-1.0, 1.0, -1.0)], material: "white"),
+        Quad(vertices: [(-1.0, -1.0, -1.0), (-1.0, 1.0, -1.0), (-1.0, 1.0, 1.0), (-1.0, -1.0, 1.0)], material: "red"),
+        Quad(vertices: [(1.0, -1.0, -1.0), (1.0, -1.0, 1.0), (1.0, 1.0, 1.0), (1.0, 1.0, -1.0)], material: "green"),
+        Sphere(center: (-0.1, -0.65, -0.3), radius: 0.35, material: "white"),
+    ],
+    lights: [
+        SphereLight(center: (-0.7, 0.2, 0.3), radius: 0.12, radiance: (12.0, 12.0, 12.0),
+                    motion: Linear(velocity: (1.4, 0.0, 0.0))),
+    ],
+)"#;
+
+#[test]
+fn a_light_jump_drops_stale_history_where_light_changed_and_leaves_no_ghost() {
+    let Some(gpu) = gpu() else { return };
+    let scene = scene_from(JUMPING_LIGHT);
+    let compiled = compile(&scene, &realtime(), &keep(&["rt_illum"]));
+    // Converged images before and after the jump, and a fresh start at the
+    // new position: the error a graph without stale history would have.
+    let pathtrace = repo().join("passes/pathtrace.ron");
+    let before = still(gpu, scene_from(JUMPING_LIGHT), &pathtrace, 256, 0.0);
+    let after = still(gpu, scene_from(JUMPING_LIGHT), &pathtrace, 256, 1.0);
+    const SETTLE: u32 = 8;
+    let fresh = still(gpu, scene_from(JUMPING_LIGHT), &realtime(), SETTLE, 1.0);
+
+    let mut s = session(gpu, scene, &compiled, SIZE, 1);
+    for _ in 0..32 {
+        s.frame(0.0);
+    }
+    for _ in 0..SETTLE {
+        s.frame(1.0);
+    }
+    let jumped = s.read_output().unwrap_or_else(|e| panic!("{e}"));
+    let lengths = read(&s, "rt_illum");
+    let (f_jumped, _) = metrics::flip(&after, &jumped);
+    let (f_fresh, _) = metrics::flip(&after, &fresh);
+    eprintln!("{SETTLE} frames after the jump: FLIP {:.4}; a fresh start's {SETTLE} frames: {:.4}", f_jumped.mean, f_fresh.mean);
+
+    // Where the light changed by more than half, history started over
+    // after the jump; where it changed by under 10%, it was kept (capped
+    // by the gradients and at `moving_history` in the jump's frame).
+    let lum = |p: &[f32; 4]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    let (mut changed, mut changed_reset, mut same, mut same_kept) = (0, 0, 0, 0);
+    for ((b, a), n) in before.data.iter().zip(&after.data).zip(&lengths.data) {
+        let (lb, la) = (lum(b), lum(a));
+        if lb.max(la) < 0.02 {
+            continue;
+        }
+        let change = (la - lb).abs() / lb.max(la);
+        if change > 0.5 {
+            changed += 1;
+            changed_reset += usize::from(n[3] <= SETTLE as f32);
+        } else if change < 0.1 {
+            same += 1;
+            same_kept += usize::from(n[3] > SETTLE as f32);
+        }
+    }
+    eprintln!("changed by > 50%: {changed_reset} of {changed} started over; by < 10%: {same_kept} of {same} kept history");
+    assert!(f_jumped.mean <= 1.2 * f_fresh.mean, "a ghost: {SETTLE} frames after the jump FLIP {:.4}, a fresh start {:.4}", f_jumped.mean, f_fresh.mean);
+    assert!(changed > 50 && same > 50, "the scene should have both: {changed} changed, {same} unchanged pixels");
+    assert!(changed_reset as f64 >= 0.8 * changed as f64, "stale history kept: {changed_reset} of {changed} changed pixels started over");
+    assert!(same_kept as f64 >= 0.8 * same as f64, "good history dropped: {same_kept} of {same} unchanged pixels kept it");
+}
