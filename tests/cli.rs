@@ -221,6 +221,40 @@ fn trade_measures_each_graph_against_the_reference() {
 }
 
 #[test]
+fn trade_in_motion_compares_every_kth_frame_with_its_own_instant() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("trade-animate");
+    let out = dir.to_string_lossy().into_owned();
+    let args = [
+        "trade", "scenes/moving-lights.ron", "--graphs", "passes/realtime.ron,passes/pathtrace.ron", "--size", "24x24", "--frames", "4",
+        "--animate", "--camera-path", "orbit:30", "--reference-every", "2", "--reference-frames", "8", "--out", &out,
+    ];
+    let (code, stdout, err) = glint(&args);
+    assert_eq!(code, 0, "{err}");
+    // One reference per compared frame, each of its own instant.
+    for f in ["reference-f0002.exr", "reference-f0004.exr", "trade.csv", "trade.md", "trade.png", "realtime-final.exr"] {
+        assert!(dir.join(f).is_file(), "{f} missing: {stdout}");
+    }
+    let key2 = std::fs::read_to_string(dir.join("reference-f0002.ron")).unwrap();
+    let key4 = std::fs::read_to_string(dir.join("reference-f0004.ron")).unwrap();
+    assert_ne!(key2, key4, "the two instants' references differ in time and camera");
+    let csv = std::fs::read_to_string(dir.join("trade.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.iter().map(|r| (r[0], r[2])).collect::<Vec<_>>(), [("realtime", "2"), ("realtime", "4"), ("pathtrace", "2"), ("pathtrace", "4")], "{csv}");
+    // Cumulative time counts the frames between compared ones too.
+    let cum: f64 = rows[1][4].parse().unwrap();
+    let ms: f64 = rows[1][3].parse().unwrap();
+    assert!(cum > 2.0 * ms, "{csv}");
+    let md = std::fs::read_to_string(dir.join("trade.md")).unwrap();
+    assert!(md.contains("## In motion") && md.contains("| realtime |"), "{md}");
+    let (code, _, err) = glint(&["trade", "scenes/cornell.ron", "--graphs", "passes/realtime.ron", "--animate", "--reference-every", "9", "--frames", "4", "--out", &out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--reference-every 9"), "{err}");
+}
+
+#[test]
 fn trade_sweeps_settings_and_skips_the_ones_a_graph_cannot_take() {
     if common::gpu().is_none() {
         return;

@@ -26,6 +26,7 @@ mod graph_cmd;
 mod render_cmd;
 mod thesis_cmd;
 mod trade_cmd;
+mod trade_motion;
 mod trade_run;
 mod trips;
 mod view_cmd;

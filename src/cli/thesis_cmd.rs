@@ -163,7 +163,7 @@ pub fn run(args: ThesisArgs) -> Result<(), UserError> {
         let n = i + 1;
         let scene = crate::scene::load(env)?;
         let (triangles, lights) = (scene.triangle_count(), scene.features.lights);
-        let spec = ReferenceSpec { scene: env, size: args.size, frames: args.reference_frames, dir: &args.out, stem: &format!("env{n}-reference"), pathtracer: &paths.pathtrace };
+        let spec = ReferenceSpec { scene: env, size: args.size, frames: args.reference_frames, dir: &args.out, stem: &format!("env{n}-reference"), pathtracer: &paths.pathtrace, time: 0.0, camera: None };
         let reference = cached_reference(&gpu, &spec)?;
         let load = || crate::scene::load(env);
         let mut runs = vec![

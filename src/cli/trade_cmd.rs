@@ -46,6 +46,22 @@ pub struct TradeArgs {
     /// Leave every shader generic (without a sweep; a sweep says it per setting).
     #[arg(long)]
     pub no_specialise: bool,
+    /// In motion: scene time advances 1/30 s a frame (moving lights and
+    /// objects), the camera follows --camera-path, and every
+    /// --reference-every-th frame is compared with a reference of that
+    /// instant held still.
+    #[arg(long)]
+    pub animate: bool,
+    /// With --animate: orbit:DEG_PER_S or keys:FILE.ron, as `render`.
+    #[arg(long, requires = "animate")]
+    pub camera_path: Option<String>,
+    /// With --animate: compare every K-th frame.
+    #[arg(long, default_value_t = 4, requires = "animate")]
+    pub reference_every: u32,
+    /// With --animate: the graph rendering each instant's reference
+    /// (default: pathtrace.ron beside the first graph).
+    #[arg(long, requires = "animate")]
+    pub reference_graph: Option<PathBuf>,
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -66,6 +82,9 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     std::fs::create_dir_all(&args.out).map_err(|e| UserError::in_file(&args.out, format!("cannot create the folder: {e}")))?;
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
+    if args.animate {
+        return super::trade_motion::run(&args, &gpu, &settings);
+    }
     let reference = match &args.reference {
         Some(path) => {
             let img = image_io::load(path)?;
@@ -78,7 +97,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
         None => {
             // The path tracer beside the first graph (passes/ as shipped).
             let pathtracer = args.graphs.first().and_then(|g| g.parent()).map_or(PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron"));
-            let spec = ReferenceSpec { scene: &args.scene, size: args.size, frames: args.reference_frames, dir: &args.out, stem: "reference", pathtracer: &pathtracer };
+            let spec = ReferenceSpec { scene: &args.scene, size: args.size, frames: args.reference_frames, dir: &args.out, stem: "reference", pathtracer: &pathtracer, time: 0.0, camera: None };
             cached_reference(&gpu, &spec)?
         }
     };
@@ -129,6 +148,6 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
 }
 
 /// A setting's name as part of a file name.
-fn file_safe(name: &str) -> String {
+pub(super) fn file_safe(name: &str) -> String {
     name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }

@@ -6,12 +6,13 @@
 use std::path::Path;
 use std::time::Instant;
 
+use crate::camera_path::CameraPath;
 use crate::error::UserError;
 use crate::gpu::readback::ImageF32;
 use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
 use crate::graph::CompileOptions;
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene};
 use crate::session::frame_loop::FrameTarget;
 use crate::session::{check_size, Session, SessionOptions};
 use crate::trade::sweep::Setting;
@@ -42,6 +43,8 @@ pub(crate) struct Run {
     pub graph: String,
     pub setting: String,
     session: Session,
+    /// Scene time and camera per frame (`trade --animate`); None: still.
+    motion: Option<Motion>,
     target: Option<FrameTarget>,
     gpu_timed: bool,
     samples: Vec<Sample>,
@@ -66,6 +69,7 @@ impl Run {
             graph: graph.file_stem().map_or("graph".into(), |s| s.to_string_lossy().into_owned()),
             setting: setting.name.clone(),
             session,
+            motion: None,
             target: setting.target_ms.map(|t| FrameTarget::new(f64::from(t))).transpose()?,
             gpu_timed,
             samples: Vec::new(),
@@ -74,11 +78,22 @@ impl Run {
         })
     }
 
+    /// Animates the run: frame k (from 0) at scene time k dt, with the
+    /// camera on `path` at that time.
+    pub fn animate(&mut self, motion: Motion) {
+        self.motion = Some(motion);
+    }
+
     /// Renders and times one frame; with a reference, reads the image back
     /// and records its error (without one, only the time).
     pub fn step(&mut self, reference: Option<&ImageF32>) -> Result<(), UserError> {
+        let mut time = 0.0;
+        if let Some(m) = &self.motion {
+            time = self.samples.len() as f32 * m.dt;
+            self.session.scene.scene.camera = m.camera_at(time);
+        }
         let start = Instant::now();
-        self.session.frame(0.0);
+        self.session.frame(time);
         self.session.gpu.wait();
         let wall = start.elapsed().as_secs_f64() * 1e3;
         let ms = if self.gpu_timed { self.session.finish().last().map_or(wall, |t| t.total()) } else { wall };
@@ -126,6 +141,21 @@ impl Run {
     }
 }
 
+/// Scene time and camera of an animated run, frame by frame.
+#[derive(Debug, Clone)]
+pub(crate) struct Motion {
+    pub dt: f32,
+    pub path: Option<CameraPath>,
+    /// The scene's own camera, where the path starts.
+    pub base: Camera,
+}
+
+impl Motion {
+    pub fn camera_at(&self, time: f32) -> Camera {
+        self.path.as_ref().map_or(self.base, |p| p.at(&self.base, time))
+    }
+}
+
 /// Renders `frames` frames of one run against `reference`, with a
 /// progress bar; its curve and final image.
 pub(crate) fn measure(mut run: Run, frames: u32, reference: &ImageF32) -> Result<(Curve, ImageF32), UserError> {
@@ -146,6 +176,11 @@ struct ReferenceKey {
     size: (u32, u32),
     frames: u32,
     engine: String,
+    /// The graph that rendered it, the scene time and the camera
+    /// (position, target) it was held at.
+    graph: String,
+    time: f32,
+    camera: [f64; 6],
 }
 
 /// Where a reference is cached and what renders it.
@@ -156,8 +191,11 @@ pub(crate) struct ReferenceSpec<'a> {
     /// `<stem>.exr` and `<stem>.ron` (its key) in `dir`.
     pub dir: &'a Path,
     pub stem: &'a str,
-    /// The path tracer's graph.
+    /// The path tracer's graph (or `--reference-graph`).
     pub pathtracer: &'a Path,
+    /// Scene time, and the camera (None: the scene's), held still.
+    pub time: f32,
+    pub camera: Option<Camera>,
 }
 
 /// The path tracer's converged image, from the cache when its key (scene
@@ -167,8 +205,20 @@ pub(crate) fn cached_reference(gpu: &Gpu, spec: &ReferenceSpec) -> Result<ImageF
     if spec.frames < 2 {
         return Err(UserError::new("the reference needs at least 2 frames"));
     }
-    let scene = crate::scene::load(spec.scene)?;
-    let key = ReferenceKey { scene_hash: scene.content_hash(), size: spec.size, frames: spec.frames, engine: format!("glint {}", env!("CARGO_PKG_VERSION")) };
+    let mut scene = crate::scene::load(spec.scene)?;
+    if let Some(camera) = spec.camera {
+        scene.camera = camera;
+    }
+    let (p, t) = (scene.camera.position, scene.camera.target);
+    let key = ReferenceKey {
+        scene_hash: scene.content_hash(),
+        size: spec.size,
+        frames: spec.frames,
+        engine: format!("glint {}", env!("CARGO_PKG_VERSION")),
+        graph: spec.pathtracer.display().to_string(),
+        time: spec.time,
+        camera: [p.x, p.y, p.z, t.x, t.y, t.z],
+    };
     let image_path = spec.dir.join(format!("{}.exr", spec.stem));
     let key_path = spec.dir.join(format!("{}.ron", spec.stem));
     let cached = std::fs::read_to_string(&key_path).ok().and_then(|t| ron::from_str::<ReferenceKey>(&t).ok());
@@ -185,7 +235,7 @@ pub(crate) fn cached_reference(gpu: &Gpu, spec: &ReferenceSpec) -> Result<ImageF
     bar.set_style(indicatif::ProgressStyle::with_template("reference {bar:40} {pos}/{len} frames (eta {eta})").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
     let mut half = None;
     for f in 1..=spec.frames {
-        session.frame(0.0);
+        session.frame(spec.time);
         if f == spec.frames / 2 {
             half = Some(session.read_output()?);
         }

@@ -8,6 +8,7 @@
 
 use std::fmt::Write;
 
+pub mod motion;
 pub mod plot;
 pub mod sweep;
 
