@@ -201,8 +201,10 @@ mod tests {
     fn shipped_profiles_parse_and_pick() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("passes/machines.ron");
         let m = Machines::load(&path).expect("machines.ron parses");
-        assert_eq!(m.pick(DeviceType::Cpu, "llvmpipe (LLVM 15)").graph, "hybrid-point.ron");
-        assert_eq!(m.pick(DeviceType::DiscreteGpu, "NVIDIA H100").graph, "hybrid-gi.ron");
+        let cpu = m.pick(DeviceType::Cpu, "llvmpipe (LLVM 15)");
+        assert_eq!((cpu.name.as_str(), cpu.graph.as_str(), cpu.resolution_scale), ("cpu (lavapipe, llvmpipe)", "realtime.ron", 0.5));
+        let gpu = m.pick(DeviceType::DiscreteGpu, "NVIDIA H100");
+        assert_eq!((gpu.name.as_str(), gpu.graph.as_str(), gpu.resolution_scale), ("discrete gpu", "realtime.ron", 1.0));
         for p in m.profiles.iter().chain([&m.default]) {
             assert!(Path::new(env!("CARGO_MANIFEST_DIR")).join("passes").join(&p.graph).is_file(), "{} names a missing graph", p.name);
         }

@@ -4,8 +4,21 @@
 // (normal and plane, shared/realtime_common.wgsl) and by how far its
 // demodulated colour lies from this pixel's in units of the standard
 // deviation of their difference (the variances of the two means,
-// `filtered_in`.w). The
-// variance is filtered with the squared weights for the next iteration.
+// `filtered_in`.w). The variance is filtered with the squared weights for
+// the next iteration.
+//
+// Entry `main` writes the next iteration's input; `last` is the final
+// iteration and remodulates: R + A (F - I), the filtered demodulated
+// light F brought back onto the pixel's unbiased mean R (with one sample
+// this is A F, SVGF's remodulation; as the filter fades, F tends to I and
+// the image to R, the plain mean of the path tracer's samples, whatever
+// the jittered rays saw at an edge, where A I is not R). Pixels without a
+// lit surface (A = 0) show R.
+//
+// Once the camera and scene have stood still for `until_frames` frames
+// (0: never), an iteration passes its input through: by then each
+// pixel's mean has so little noise left that this step's taps would be
+// weighted near zero, and the pass costs a load and a store.
 #import realtime_common
 
 override STEP: i32 = 1;
@@ -13,19 +26,21 @@ override STEP: i32 = 1;
 struct Params {
     sigma_l: f32, // ui: 0.5..64 log "luminance sigma"
     depth_sigma: f32, // ui: 0.1..16 log "depth sigma (pixel footprints)"
+    until_frames: u32, // ui: 0..4096 "still frames filtered (0: always)"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var filtered_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var guide: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(3) var filtered: texture_storage_2d<rgba32float, write>;
+// `last` only: the history's means this frame, and the image.
+@group(0) @binding(4) var illum: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(5) var color: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(6) var albedo: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(7) var output: texture_storage_2d<rgba32float, write>;
 
-@compute @workgroup_size(128, 1)
-fn main(@builtin(global_invocation_id) id: vec3u) {
-    if !in_frame(id) {
-        return;
-    }
-    let p = vec2i(id.xy);
+// This iteration at pixel p: the filtered light and the variance of it.
+fn filter_at(p: vec2i) -> vec4f {
     let own = textureLoad(filtered_in, p);
     let gp = load_guide(guide, p);
     let size = vec2i(frame.size);
@@ -33,8 +48,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     var sum = 0.25 * own.rgb;
     var var_sum = 0.0625 * own.a;
     var wsum = 0.25;
-    // Taps off the centre, where a lane has a surface to filter.
-    let taps = select(0u, 9u, gp.surface) * u32(frame.exact_one);
+    // Taps off the centre, where a lane has a surface to filter (the same
+    // for every lane once the image has stood still long enough).
+    let still_enough = params.until_frames > 0u && frame.accum_count >= params.until_frames;
+    let taps = select(0u, 9u, gp.surface && !still_enough) * u32(frame.exact_one);
     for (var k = 0u; k < taps; k++) {
         let d = vec2i(i32(k % 3u) - 1, i32(k / 3u) - 1);
         if all(d == vec2i(0)) {
@@ -56,5 +73,25 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         var_sum += w * w * tap.a;
         wsum += w;
     }
-    textureStore(filtered, id.xy, vec4f(sum / wsum, var_sum / (wsum * wsum)));
+    return vec4f(sum / wsum, var_sum / (wsum * wsum));
+}
+
+@compute @workgroup_size(128, 1)
+fn main(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    textureStore(filtered, id.xy, filter_at(vec2i(id.xy)));
+}
+
+@compute @workgroup_size(128, 1)
+fn last(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let f = filter_at(vec2i(id.xy)).rgb;
+    let i = textureLoad(illum, id.xy).rgb;
+    let r = textureLoad(color, id.xy).rgb;
+    let a = textureLoad(albedo, id.xy).rgb;
+    textureStore(output, id.xy, vec4f(max(r + a * (f - i), vec3f(0.0)), 1.0));
 }

@@ -7,8 +7,8 @@
 // without the noise two independent samples would differ by. Writes per
 // stratum (|new - old|, max(new, old)) in luminance; temporal.wgsl turns
 // the 3x3 strata around each pixel into the share of its history to drop.
-// In frames where the scene did not change every gradient is zero and
-// nothing is traced.
+// In frames where the scene did not change every gradient would be zero:
+// nothing is traced or written.
 #import path
 
 struct Params {
@@ -37,9 +37,12 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     // Only frames whose scene changed, with a last frame in the history:
     // the same for every invocation, so no lane pays for the other side.
-    let changed = frame.epoch_frames == 0u && frame.history_frames > 0u;
-    var out = vec4f(0.0);
-    if changed {
+    // (temporal.wgsl reads the gradients only then: other frames leave
+    // the texture as it was.)
+    if frame.epoch_frames != 0u || frame.history_frames == 0u {
+        return;
+    }
+    {
         let prev_frame = frame.frame_index - 1u;
         // Which pixel of the stratum, by a hash of stratum and frame.
         var pick = rng_for(id.xy, prev_frame, PICK_SALT, frame.seed);
@@ -51,7 +54,6 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         let rd = camera_dir(cam, pixel, rand2(&rng));
         let now = luminance_of(max(trace_path(&flat, cam.origin, rd, params.max_depth, params.rr_depth, true, &rng), vec3f(0.0)));
         let then = textureLoad(geo_prev, vec2i(pixel)).w;
-        out = vec4f(abs(now - then), max(now, then), 0.0, 1.0);
+        textureStore(gradient, id.xy, vec4f(abs(now - then), max(now, then), 0.0, 1.0));
     }
-    textureStore(gradient, id.xy, out);
 }

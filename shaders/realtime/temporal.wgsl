@@ -56,6 +56,9 @@ struct Params {
 @group(0) @binding(12) var geo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(13) var guide: texture_storage_2d<rgba32uint, write>;
 @group(0) @binding(14) var gradient: texture_storage_2d<rgba32float, read>;
+// The filter's input: the demodulated mean and the variance of that mean
+// from the pixel's own moments (variance.wgsl refines it).
+@group(0) @binding(15) var filter_in: texture_storage_2d<rgba32float, write>;
 
 // Pixels per side of a gradient stratum (gradient.wgsl).
 const STRATUM: f32 = 3.0;
@@ -210,6 +213,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         n += 1.0;
     }
     textureStore(illum, id.xy, vec4f(h.illum, n));
+    let m1 = luminance(h.illum);
+    textureStore(filter_in, id.xy, vec4f(h.illum, max(h.m2 - m1 * m1, 0.0) / max(n, 1.0)));
     textureStore(color, id.xy, vec4f(h.color, h.m2));
     textureStore(albedo, id.xy, vec4f(h.albedo, 1.0));
     textureStore(geo, id.xy, vec4f(normal_to_oct(nw.xyz), select(g.w, -1.0, miss), luminance(l)));
