@@ -183,7 +183,6 @@ fn golden_images_of_every_pass() {
         ("irradiance.ron", "cornell.ron"),
         ("hybrid-gi.ron", "cornell.ron"),
         ("realtime.ron", "cornell.ron"),
-        ("realtime.ron", "moving-lights.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }
