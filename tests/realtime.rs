@@ -56,6 +56,19 @@ fn a_still_image_tends_to_the_path_tracers_mean() {
 }
 
 #[test]
+fn one_light_a_bounce_keeps_the_path_tracers_mean_with_several_lights() {
+    // moving-lights at time 0: three sphere lights, each bounce of the
+    // real-time graph's paths samples one of them (NEE_ONE).
+    let Some(gpu) = gpu() else { return };
+    let reference = still(gpu, load_scene("moving-lights.ron"), &repo().join("passes/pathtrace.ron"), 256, 0.0);
+    let converged = still(gpu, load_scene("moving-lights.ron"), &realtime(), 256, 0.0);
+    let (l_ref, l_rt) = (mean_luminance(&reference), mean_luminance(&converged));
+    let (flip, _) = metrics::flip(&reference, &converged);
+    eprintln!("moving-lights, 256 frames each: mean luminance {l_rt:.5} against the path tracer's {l_ref:.5}; FLIP {:.4}", flip.mean);
+    assert!((l_rt / l_ref - 1.0).abs() < 0.02, "mean luminance {l_rt} against the path tracer's {l_ref}: biased");
+}
+
+#[test]
 fn the_filters_variance_falls_with_history() {
     let Some(gpu) = gpu() else { return };
     let scene = load_scene("cornell-diffuse.ron");

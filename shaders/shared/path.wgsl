@@ -25,6 +25,12 @@ var<private> path_primary_ids: vec2u;
 override THROUGH_MIRRORS: bool = false;
 var<private> path_primary_open: bool;
 
+// Next-event estimation toward one light a bounce, chosen uniformly and
+// weighted by the light count, instead of every light: a bounce then
+// traces one shadow ray however many lights the scene has (more noise
+// with many lights, the same mean). Off: every light, one sample each.
+override NEE_ONE: bool = false;
+
 // The path tracer's random streams (shared/path_render.wgsl): a pixel's
 // path in frame f draws from rng_at(rng_frame_key(f, PATH_RENDER_SALT,
 // seed), pixel), so a pass can trace last frame's path again
@@ -107,6 +113,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             var pdf = (*st).light_pdf;
             if !SCENE_ONE_LIGHT {
                 pdf = light_pdf(load_light(u32(hit.light)), (*st).prev_p);
+                if NEE_ONE {
+                    pdf /= f32(light_count());
+                }
             }
             w = power_heuristic((*st).bsdf_pdf, pdf);
         }
@@ -139,8 +148,18 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             (*st).rd = dir;
         }
     } else {
-        // Next-event estimation: every light, one sample each.
-        for (var i = 0u; i < light_count(); i++) {
+        // Next-event estimation: every light, one sample each; with
+        // NEE_ONE one light, chosen with probability 1 / count.
+        var first = 0u;
+        var lights = light_count();
+        var chosen = 1.0;
+        if NEE_ONE && light_count() > 1u {
+            first = min(u32(rand_f32(rng) * f32(light_count())), light_count() - 1u);
+            lights = 1u;
+            chosen = 1.0 / f32(light_count());
+        }
+        for (var j = 0u; j < lights; j++) {
+            let i = first + j;
             let l = load_light(i);
             let s = sample_light(l, o, rand2(rng));
             (*st).light_pdf = s.pdf;
@@ -150,9 +169,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             }
             var w = 1.0;
             if s.pdf > 0.0 {
-                w = power_heuristic(s.pdf, cos_n / PI);
+                w = power_heuristic(s.pdf * chosen, cos_n / PI);
             }
-            let light = (*st).throughput * m.albedo / PI * s.weight * cos_n * w;
+            let light = (*st).throughput * m.albedo / PI * s.weight * cos_n * w / chosen;
             if i + 1u == light_count() {
                 out.shadow_dir = s.dir;
                 out.shadow_tmax = shadow_ray_length(s);
