@@ -252,6 +252,9 @@ fn trade_in_motion_compares_every_kth_frame_with_its_own_instant() {
     let (code, _, err) = glint(&["trade", "scenes/cornell.ron", "--graphs", "passes/realtime.ron", "--animate", "--reference-every", "9", "--frames", "4", "--out", &out]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--reference-every 9"), "{err}");
+    let (code, _, err) = glint(&["trade", "scenes/cornell.ron", "--graphs", "passes/realtime.ron", "--animate", "--reference", "x.exr", "--frames", "4", "--out", &out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--reference with --animate"), "{err}");
 }
 
 #[test]

@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::trade_run::{cached_reference, measure, ReferenceSpec, Run};
+use super::trade_run::{cached_reference, file_safe, measure, ReferenceSpec, Run};
 use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
@@ -83,7 +83,21 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
     if args.animate {
-        return super::trade_motion::run(&args, &gpu, &settings);
+        if args.reference.is_some() {
+            return Err(UserError::new("--reference with --animate: each compared frame has a reference of its own instant, rendered by --reference-graph"));
+        }
+        let request = super::trade_motion::MotionRequest {
+            scene: &args.scene,
+            graphs: &args.graphs,
+            size: args.size,
+            frames: args.frames,
+            reference_frames: args.reference_frames,
+            camera_path: args.camera_path.as_deref(),
+            reference_every: args.reference_every,
+            reference_graph: args.reference_graph.as_deref(),
+            out: &args.out,
+        };
+        return super::trade_motion::run(&request, &gpu, &settings);
     }
     let reference = match &args.reference {
         Some(path) => {
@@ -145,9 +159,4 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     std::fs::write(&md_path, crate::trade::markdown("Speed against accuracy", &how, &curves)).map_err(|e| UserError::in_file(&md_path, e.to_string()))?;
     out!("wrote {}, {}, {} and {}", csv_path.display(), md_path.display(), png_path.display(), compare_path.display());
     Ok(())
-}
-
-/// A setting's name as part of a file name.
-pub(super) fn file_safe(name: &str) -> String {
-    name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }

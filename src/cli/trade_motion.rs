@@ -9,10 +9,9 @@
 //! `--reference-every 1`, the flicker: the mean FLIP between consecutive
 //! frames less the references' own.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use super::trade_cmd::{file_safe, TradeArgs};
-use super::trade_run::{cached_reference, Motion, ReferenceSpec, Run};
+use super::trade_run::{cached_reference, file_safe, Motion, ReferenceSpec, Run};
 use crate::camera_path::CameraPath;
 use crate::error::UserError;
 use crate::gpu::readback::ImageF32;
@@ -24,30 +23,40 @@ use crate::{image_io, metrics, scene};
 /// Scene time per frame: 30 frames a second of scene time.
 pub const FRAME_DT: f32 = 1.0 / 30.0;
 
-pub(super) fn run(args: &TradeArgs, gpu: &Gpu, settings: &[Setting]) -> Result<(), UserError> {
-    if args.reference.is_some() {
-        return Err(UserError::new("--reference with --animate: each compared frame has a reference of its own instant, rendered by --reference-graph"));
-    }
+/// What `trade --animate` was asked (`glint trade`'s arguments).
+pub(super) struct MotionRequest<'a> {
+    pub scene: &'a Path,
+    pub graphs: &'a [PathBuf],
+    pub size: (u32, u32),
+    pub frames: u32,
+    pub reference_frames: u32,
+    pub camera_path: Option<&'a str>,
+    pub reference_every: u32,
+    pub reference_graph: Option<&'a Path>,
+    pub out: &'a Path,
+}
+
+pub(super) fn run(args: &MotionRequest, gpu: &Gpu, settings: &[Setting]) -> Result<(), UserError> {
     if args.reference_every == 0 || args.reference_every > args.frames {
         return Err(UserError::new(format!("--reference-every {}: give 1 to --frames ({})", args.reference_every, args.frames)));
     }
-    let path = args.camera_path.as_deref().map(CameraPath::parse).transpose()?;
-    let base = scene::load(&args.scene)?.camera;
+    let path = args.camera_path.map(CameraPath::parse).transpose()?;
+    let base = scene::load(args.scene)?.camera;
     if let Some(p) = &path {
         p.check(&base)?;
     }
     let motion = Motion { dt: FRAME_DT, path, base };
-    let reference_graph = args.reference_graph.clone().unwrap_or_else(|| args.graphs.first().and_then(|g| g.parent()).map_or(PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron")));
+    let reference_graph = args.reference_graph.map(Path::to_path_buf).unwrap_or_else(|| args.graphs.first().and_then(|g| g.parent()).map_or(PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron")));
     // The compared frames (1-based) and their references.
     let compared: Vec<u32> = (1..=args.frames).filter(|f| f % args.reference_every == 0).collect();
     let mut references = Vec::new();
     for &f in &compared {
         let time = (f - 1) as f32 * FRAME_DT;
         let spec = ReferenceSpec {
-            scene: &args.scene,
+            scene: args.scene,
             size: args.size,
             frames: args.reference_frames,
-            dir: &args.out,
+            dir: args.out,
             stem: &format!("reference-f{f:04}"),
             pathtracer: &reference_graph,
             time,
@@ -65,7 +74,7 @@ pub(super) fn run(args: &TradeArgs, gpu: &Gpu, settings: &[Setting]) -> Result<(
             out!("{} [{}]: skipped, the graph has no pass `{missing}`", graph.display(), setting.name);
             continue;
         }
-        let mut run = Run::new(gpu, scene::load(&args.scene)?, graph, setting, args.size)?;
+        let mut run = Run::new(gpu, scene::load(args.scene)?, graph, setting, args.size)?;
         run.animate(motion.clone());
         let bar = indicatif::ProgressBar::new(u64::from(args.frames));
         let mut outputs = Vec::new();
@@ -101,7 +110,7 @@ pub(super) fn run(args: &TradeArgs, gpu: &Gpu, settings: &[Setting]) -> Result<(
         args.size.1,
         gpu.describe(),
         FRAME_DT,
-        args.camera_path.as_ref().map_or(String::new(), |p| format!(", camera {p}")),
+        args.camera_path.map_or(String::new(), |p| format!(", camera {p}")),
         args.frames,
         args.reference_every,
         reference_graph.display(),

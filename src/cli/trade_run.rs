@@ -258,3 +258,8 @@ pub(crate) fn cached_reference(gpu: &Gpu, spec: &ReferenceSpec) -> Result<ImageF
     std::fs::write(&key_path, text).map_err(|e| UserError::in_file(&key_path, e.to_string()))?;
     Ok(img)
 }
+
+/// A setting's name as part of a file name.
+pub(crate) fn file_safe(name: &str) -> String {
+    name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
+}
