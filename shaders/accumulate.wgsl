@@ -78,46 +78,24 @@ fn agrees(q: vec2i, g: vec4f, p: vec3f, n: vec3f, miss: bool) -> bool {
 fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> History {
     let none = History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
     let miss = g.w < 0.0;
-    // A miss is projected as a direction (a point at infinity).
-    let now = project(frame.camera, select(g.xyz, frame.camera.origin + g.xyz, miss));
-    let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
-    if then.z <= 0.0 {
+    let fp = footprint(pixel, g, view_dependent);
+    if !fp.valid {
         return none;
     }
-    let motion = then.xy - now.xy;
-    let still = all(motion == vec2f(0.0));
-    if view_dependent && !still {
-        return none;
-    }
-    // Texel centres sit at i + 0.5: bilinear taps around the old centre.
-    let base = vec2f(pixel) + motion;
-    let i0 = vec2i(floor(base));
-    let f = base - floor(base);
-    let size = vec2i(frame.size);
     var value = vec3f(0.0);
     var compensation = vec3f(0.0);
     var count = 0xffffffffu;
     var weight = 0.0;
-    // Only the taps with weight: one for a still camera or a whole-pixel
-    // shift, two or four otherwise. The count is multiplied by a uniform
-    // the compiler cannot know (1), which keeps this a loop: a loop with a
-    // small known bound is unrolled into ifs, and CPU drivers run every if
-    // under a lane mask, taken or not, while a loop runs only as many
-    // trips as its busiest SIMD lane needs.
-    let nx = select(1u, 2u, f.x > 0.0);
-    let taps = nx * select(1u, 2u, f.y > 0.0) * u32(frame.exact_one);
-    for (var k = 0u; k < taps; k++) {
-        // k % nx and k / nx for nx in {1, 2}, without an integer division
-        // (a SIMD CPU driver divides one lane at a time).
-        let d = vec2i(i32(k & (nx - 1u)), i32(k >> (nx - 1u)));
-        let q = i0 + d;
-        let w = select(1.0 - f.x, f.x, d.x == 1) * select(1.0 - f.y, f.y, d.y == 1);
-        if w <= 0.0 || any(q < vec2i(0)) || any(q >= size) {
+    for (var k = 0u; k < fp.taps; k++) {
+        let tap = footprint_tap(fp, k);
+        let q = tap.q;
+        let w = tap.w;
+        if w <= 0.0 {
             continue;
         }
         // A still camera sees the same footprint: no test needed (it would
         // otherwise reject silhouette pixels whose jittered samples differ).
-        if !still && !agrees(q, textureLoad(geo_prev, q), g.xyz, n, miss) {
+        if !fp.still && !agrees(q, textureLoad(geo_prev, q), g.xyz, n, miss) {
             continue;
         }
         let h = load_history(q);

@@ -67,7 +67,7 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             // variance, left out.
             // Temporal gradients: zero in still frames (the goldens').
             "gradient" => *p = [p[0], p[1], 0.0, 1.0],
-            "rt_illum" | "rt_color" | "rt_albedo" | "filt_in" | "filt_0" | "filt_1" | "filt_2" | "filt_3" | "filt_4" | "filt_5" => p[3] = 1.0,
+            "rt_illum" | "rt_color" | "rt_albedo" | "filt_in" | "filt_0" | "filt_1" | "filt_2" | "filt_3" | "filt_4" => p[3] = 1.0,
             "rt_geo" => *p = [p[0] * 0.5 + 0.5, p[1] * 0.5 + 0.5, p[2] / 8.0, 1.0],
             // f32 bits and a packed normal: shown as which pixels the
             // filters treat as a surface (white).

@@ -10,6 +10,7 @@
 // In frames where the scene did not change every gradient would be zero:
 // nothing is traced or written.
 #import path
+#import realtime_common
 
 struct Params {
     max_depth: u32, // ui: 1..64 limit "max bounces"
@@ -24,10 +25,6 @@ struct Params {
 // Pixels per stratum side (temporal.wgsl reads the strata with it).
 const STRATUM: u32 = 3u;
 const PICK_SALT: u32 = 0x67726164u;
-
-fn luminance_of(c: vec3f) -> f32 {
-    return dot(c, vec3f(0.2126, 0.7152, 0.0722));
-}
 
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -52,7 +49,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         var rng = rng_at(rng_frame_key(prev_frame, PATH_RENDER_SALT, frame.seed), pixel);
         let cam = frame.prev_camera;
         let rd = camera_dir(cam, pixel, rand2(&rng));
-        let now = luminance_of(max(trace_path(&flat, cam.origin, rd, params.max_depth, params.rr_depth, true, &rng), vec3f(0.0)));
+        let now = luminance(max(trace_path(&flat, cam.origin, rd, params.max_depth, params.rr_depth, true, &rng), vec3f(0.0)));
         let then = textureLoad(geo_prev, vec2i(pixel)).w;
         textureStore(gradient, id.xy, vec4f(abs(now - then), max(now, then), 0.0, 1.0));
     }

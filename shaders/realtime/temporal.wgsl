@@ -105,38 +105,25 @@ fn blend(a: State, b: State, w: f32) -> State {
 // View-dependent pixels (a specular share) keep none once the camera moves.
 fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> State {
     let miss = g.w < 0.0;
-    let now = project(frame.camera, select(g.xyz, frame.camera.origin + g.xyz, miss));
-    let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
-    if then.z <= 0.0 {
+    let fp = footprint(pixel, g, view_dependent);
+    if !fp.valid {
         return no_state();
     }
-    let motion = then.xy - now.xy;
-    let still = all(motion == vec2f(0.0));
-    if view_dependent && !still {
-        return no_state();
-    }
-    let base = vec2f(pixel) + motion;
-    let i0 = vec2i(floor(base));
-    let f = base - floor(base);
-    let size = vec2i(frame.size);
     var sum = no_state();
     var count = 3.0e38;
     var weight = 0.0;
-    // Only the taps with weight (see accumulate.wgsl: a loop, not ifs).
-    let nx = select(1u, 2u, f.x > 0.0);
-    let taps = nx * select(1u, 2u, f.y > 0.0) * u32(frame.exact_one);
-    for (var k = 0u; k < taps; k++) {
-        let d = vec2i(i32(k & (nx - 1u)), i32(k >> (nx - 1u)));
-        let q = i0 + d;
-        let w = select(1.0 - f.x, f.x, d.x == 1) * select(1.0 - f.y, f.y, d.y == 1);
-        if w <= 0.0 || any(q < vec2i(0)) || any(q >= size) {
+    for (var k = 0u; k < fp.taps; k++) {
+        let tap = footprint_tap(fp, k);
+        let q = tap.q;
+        let w = tap.w;
+        if w <= 0.0 {
             continue;
         }
         // A still camera in a still scene sees the same surfaces (testing
         // would drop silhouettes, whose jittered hits differ); after a
         // scene change it may not: what moved (a light's own pixels, an
         // object) is tested.
-        if (!still || scene_changed()) && !same_surface(q, textureLoad(geo_prev, q), g.xyz, n, miss, params.normal_cos, params.depth_tol) {
+        if (!fp.still || scene_changed()) && !same_surface(q, textureLoad(geo_prev, q), g.xyz, n, miss, params.normal_cos, params.depth_tol) {
             continue;
         }
         let h = load_state(q);

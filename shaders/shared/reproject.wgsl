@@ -1,6 +1,7 @@
 // Reprojection's pieces, shared by accumulate.wgsl and the real-time
 // denoiser (shaders/realtime/temporal.wgsl): the octahedral normal a
-// history's `geo` record keeps, and the test that a history texel saw the
+// history's `geo` record keeps, where a pixel's hit was last frame and the
+// bilinear taps around it, and the test that a history texel saw the
 // surface this pixel sees.
 #import frame
 
@@ -42,4 +43,64 @@ fn same_surface(q: vec2i, g: vec4f, p: vec3f, n: vec3f, miss: bool, normal_cos: 
     // the error lies along the surface, not across it).
     let q_pos = frame.prev_camera.origin + g.z * camera_dir(frame.prev_camera, vec2u(q), vec2f(0.5));
     return abs(dot(q_pos - p, n)) <= depth_tol * length(p - frame.prev_camera.origin);
+}
+
+// Where pixel `pixel`'s hit (G-buffer position `g`: a miss is a direction,
+// projected as a point at infinity) was on last frame's image: the
+// bilinear taps around it. `valid` false: no history (behind last frame's
+// camera, or a view-dependent surface seen from a camera that moved).
+struct Footprint {
+    valid: bool,
+    // The camera has not moved for this pixel: its one tap is its own texel.
+    still: bool,
+    i0: vec2i,
+    f: vec2f,
+    nx: u32,
+    // Only the taps with weight: one for a still camera or a whole-pixel
+    // shift, two or four otherwise. The count is multiplied by a uniform
+    // the compiler cannot know (1), which keeps the caller's tap loop a
+    // loop: a loop with a small known bound is unrolled into ifs, and CPU
+    // drivers run every if under a lane mask, taken or not, while a loop
+    // runs only as many trips as its busiest SIMD lane needs.
+    taps: u32,
+}
+
+fn footprint(pixel: vec2u, g: vec4f, view_dependent: bool) -> Footprint {
+    var fp = Footprint(false, false, vec2i(0), vec2f(0.0), 1u, 0u);
+    let miss = g.w < 0.0;
+    let now = project(frame.camera, select(g.xyz, frame.camera.origin + g.xyz, miss));
+    let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
+    if then.z <= 0.0 {
+        return fp;
+    }
+    let motion = then.xy - now.xy;
+    fp.still = all(motion == vec2f(0.0));
+    if view_dependent && !fp.still {
+        return fp;
+    }
+    fp.valid = true;
+    // Texel centres sit at i + 0.5: bilinear taps around the old centre.
+    let base = vec2f(pixel) + motion;
+    fp.i0 = vec2i(floor(base));
+    fp.f = base - floor(base);
+    fp.nx = select(1u, 2u, fp.f.x > 0.0);
+    fp.taps = fp.nx * select(1u, 2u, fp.f.y > 0.0) * u32(frame.exact_one);
+    return fp;
+}
+
+// Tap k of a footprint: its texel and bilinear weight (0: skip it, no
+// weight or outside the image).
+struct Tap {
+    q: vec2i,
+    w: f32,
+}
+
+fn footprint_tap(fp: Footprint, k: u32) -> Tap {
+    // k % nx and k / nx for nx in {1, 2}, without an integer division
+    // (a SIMD CPU driver divides one lane at a time).
+    let d = vec2i(i32(k & (fp.nx - 1u)), i32(k >> (fp.nx - 1u)));
+    let q = fp.i0 + d;
+    let w = select(1.0 - fp.f.x, fp.f.x, d.x == 1) * select(1.0 - fp.f.y, fp.f.y, d.y == 1);
+    let outside = any(q < vec2i(0)) || any(q >= vec2i(frame.size));
+    return Tap(q, select(w, 0.0, outside));
 }

@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::trade_run::{cached_reference, file_safe, measure, ReferenceSpec, Run};
+use super::trade_run::{cached_reference, file_safe, measure, pathtracer_beside, ReferenceSpec, Run};
 use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
@@ -109,8 +109,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
             img
         }
         None => {
-            // The path tracer beside the first graph (passes/ as shipped).
-            let pathtracer = args.graphs.first().and_then(|g| g.parent()).map_or(PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron"));
+            let pathtracer = pathtracer_beside(&args.graphs);
             let spec = ReferenceSpec { scene: &args.scene, size: args.size, frames: args.reference_frames, dir: &args.out, stem: "reference", pathtracer: &pathtracer, time: 0.0, camera: None };
             cached_reference(&gpu, &spec)?
         }

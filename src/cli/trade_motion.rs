@@ -11,7 +11,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::trade_run::{cached_reference, file_safe, Motion, ReferenceSpec, Run};
+use super::trade_run::{cached_reference, file_safe, pathtracer_beside, Motion, ReferenceSpec, Run};
 use crate::camera_path::CameraPath;
 use crate::error::UserError;
 use crate::gpu::readback::ImageF32;
@@ -46,7 +46,7 @@ pub(super) fn run(args: &MotionRequest, gpu: &Gpu, settings: &[Setting]) -> Resu
         p.check(&base)?;
     }
     let motion = Motion { dt: FRAME_DT, path, base };
-    let reference_graph = args.reference_graph.map(Path::to_path_buf).unwrap_or_else(|| args.graphs.first().and_then(|g| g.parent()).map_or(PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron")));
+    let reference_graph = args.reference_graph.map_or_else(|| pathtracer_beside(args.graphs), Path::to_path_buf);
     // The compared frames (1-based) and their references.
     let compared: Vec<u32> = (1..=args.frames).filter(|f| f % args.reference_every == 0).collect();
     let mut references = Vec::new();

@@ -263,3 +263,9 @@ pub(crate) fn cached_reference(gpu: &Gpu, spec: &ReferenceSpec) -> Result<ImageF
 pub(crate) fn file_safe(name: &str) -> String {
     name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '.' { c } else { '_' }).collect()
 }
+
+/// The path tracer's graph beside the first graph named (passes/ as
+/// shipped): the default reference graph.
+pub(crate) fn pathtracer_beside(graphs: &[std::path::PathBuf]) -> std::path::PathBuf {
+    graphs.first().and_then(|g| g.parent()).map_or(std::path::PathBuf::from("passes/pathtrace.ron"), |p| p.join("pathtrace.ron"))
+}
