@@ -166,7 +166,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let ids = textureLoad(gbuf_id, id.xy);
     let miss = g.w < 0.0;
     let surface = !miss && is_lit_surface(ids);
-    let a = select(vec3f(0.0), load_material(ids.x).albedo, surface);
+    // (Material 0 stands in on a miss, whose id is NO_HIT: no load out of range.)
+    let a = select(vec3f(0.0), load_material(select(0u, ids.x, surface)).albedo, surface);
     // Demodulated: the radiance over the albedo, channels without albedo 0
     // (remodulation multiplies them by it again).
     var l = textureLoad(radiance, id.xy).rgb;
