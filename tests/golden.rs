@@ -75,6 +75,17 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
                 let v = if p[3] as u32 == u32::MAX { 0.0 } else { 1.0 };
                 *p = [v, v, v, 1.0];
             }
+            // Direct light by resampling (realtime-restir.ron): which
+            // pixels have a surface for it (white; the record is f32 bits),
+            // and each reservoir's candidate count M (grey, 100 white).
+            "di_surface" => {
+                let v = if p[0] + p[1] + p[2] > 0.0 { 1.0 } else { 0.0 };
+                *p = [v, v, v, 1.0];
+            }
+            "di_res" | "rt_reservoir" => {
+                let v = ((p[0] as u32) >> 20) as f32 / 100.0;
+                *p = [v, v, v, 1.0];
+            }
             // -1 not specular (black), 0 shaded (grey), 1 reused (white).
             "reflect_reuse" => {
                 let v = (p[0] + 1.0) * 0.5;
@@ -183,6 +194,7 @@ fn golden_images_of_every_pass() {
         ("irradiance.ron", "cornell.ron"),
         ("hybrid-gi.ron", "cornell.ron"),
         ("realtime.ron", "cornell.ron"),
+        ("realtime-restir.ron", "moving-lights.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }

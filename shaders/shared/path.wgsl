@@ -31,6 +31,18 @@ var<private> path_primary_open: bool;
 // with many lights, the same mean). Off: every light, one sample each.
 override NEE_ONE: bool = false;
 
+// With FIRST_DIRECT_APART, the direct light of the recorded first hit's
+// diffuse lobe is left to another pass (shaders/realtime/restir.wgsl:
+// reservoir resampling over all lights): the path takes no next-event
+// estimation there, and a light its diffuse bounce then hits counts
+// nothing. What that pass needs is recorded with the hit:
+// `path_primary_direct`, the factor its light arrives with (the
+// throughput to the hit, the diffuse share and albedo / pi; 0: none) and
+// `path_primary_ng`, the geometric normal facing the ray.
+override FIRST_DIRECT_APART: bool = false;
+var<private> path_primary_direct: vec3f;
+var<private> path_primary_ng: vec3f;
+
 // The path tracer's random streams (shared/path_render.wgsl): a pixel's
 // path in frame f draws from rng_at(rng_frame_key(f, PATH_RENDER_SALT,
 // seed), pixel), so a pass can trace last frame's path again
@@ -62,10 +74,13 @@ struct PathState {
     // one light (SCENE_ONE_LIGHT): light_pdf there, bit for bit.
     light_pdf: f32,
     depth: u32,
+    // The last bounce was the first hit's diffuse one under
+    // FIRST_DIRECT_APART: a light it hits is another pass's to count.
+    direct_apart: bool,
 }
 
 fn new_path(ro: vec3f, rd: vec3f) -> PathState {
-    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u);
+    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u, false);
 }
 
 // What a bounce leaves to trace: the next ray from `o` along the state's
@@ -94,14 +109,20 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     // Loaded before the miss test (a miss has material 0): the G-buffer's
     // specular share comes from the same two texels.
     let m = load_material(hit.material);
-    if FIRST_HIT && (depth == 0u || (THROUGH_MIRRORS && path_primary_open)) {
+    let recording = FIRST_HIT && (depth == 0u || (THROUGH_MIRRORS && path_primary_open));
+    if recording {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
         let view_dependent = select(m.specular, 1.0, depth > 0u);
         path_primary_normal = select(vec4f(facing, view_dependent), vec4f(0.0), !hit_found(hit));
         path_primary_ids = select(vec2u(hit.material, hit.object), vec2u(NO_HIT), !hit_found(hit));
         path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0;
+        path_primary_direct = vec3f(0.0);
     }
+    // This hit's diffuse direct light is another pass's (FIRST_DIRECT_APART).
+    let direct_apart = FIRST_DIRECT_APART && recording && !path_primary_open;
+    let light_hit_apart = (*st).direct_apart;
+    (*st).direct_apart = false;
     if !hit_found(hit) {
         (*st).result += (*st).throughput * frame.background;
         return out;
@@ -109,7 +130,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     let p = hit.position;
     if is_emissive(m) && (depth > 0u || first_emission || hit.light < 0) {
         var w = 1.0;
-        if hit.light >= 0 && (*st).bsdf_pdf > 0.0 {
+        if hit.light >= 0 && light_hit_apart {
+            w = 0.0;
+        } else if hit.light >= 0 && (*st).bsdf_pdf > 0.0 {
             var pdf = (*st).light_pdf;
             if !SCENE_ONE_LIGHT {
                 pdf = light_pdf(load_light(u32(hit.light)), (*st).prev_p);
@@ -131,6 +154,13 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     let o = offset_ray(p, ng);
     out.o = o;
     out.shadow_dir = n;
+    if direct_apart {
+        // The diffuse lobe's expected share: the path below takes it with
+        // probability 1 - specular.
+        let diffuse = select(1.0, 1.0 - m.specular, SCENE_SPECULAR);
+        path_primary_direct = (*st).throughput * diffuse * m.albedo / PI;
+        path_primary_ng = ng;
+    }
     var go_on = true;
     // Drawn whether or not the scene has specular surfaces, so a
     // specialised shader draws the same random numbers as a generic one.
@@ -151,9 +181,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         // Next-event estimation: every light, one sample each; with
         // NEE_ONE one light, chosen with probability 1 / count.
         var first = 0u;
-        var lights = light_count();
+        var lights = select(light_count(), 0u, direct_apart);
         var chosen = 1.0;
-        if NEE_ONE && light_count() > 1u {
+        if NEE_ONE && light_count() > 1u && !direct_apart {
             first = min(u32(rand_f32(rng) * f32(light_count())), light_count() - 1u);
             lights = 1u;
             chosen = 1.0 / f32(light_count());
@@ -187,6 +217,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             (*st).throughput *= m.albedo;
             (*st).bsdf_pdf = cos_d / PI;
             (*st).rd = dir;
+            (*st).direct_apart = direct_apart;
         }
     }
     if go_on {

@@ -58,6 +58,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     path_primary_normal = vec4f(0.0);
     path_primary_ids = vec2u(NO_HIT);
     path_primary_open = true;
+    path_primary_direct = vec3f(0.0);
     loop {
         var b = ended_bounce();
         if st.depth < max_depth {
@@ -104,6 +105,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             path_primary_normal = vec4f(0.0);
             path_primary_ids = vec2u(NO_HIT);
             path_primary_open = true;
+            path_primary_direct = vec3f(0.0);
         } else {
             st.depth += 1u;
         }
