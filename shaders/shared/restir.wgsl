@@ -85,8 +85,12 @@ struct LightPoint {
 }
 
 fn light_point(s: Surface, light: u32, oct: vec2f) -> LightPoint {
+    return light_point_of(s, load_light(light), oct);
+}
+
+// light_point with the light already loaded.
+fn light_point_of(s: Surface, l: Light, oct: vec2f) -> LightPoint {
     var out = LightPoint(vec3f(0.0), vec3f(0.0, 1.0, 0.0), 0.0, 0.0, 0.0, 0.0);
-    let l = load_light(light);
     if l.kind == LIGHT_POINT {
         let to = l.position - s.o;
         let d2 = dot(to, to);
@@ -156,7 +160,7 @@ fn draw_candidate(s: Surface, rng: ptr<function, Rng>) -> Candidate {
     if l.kind == LIGHT_SPHERE {
         c.oct = normal_to_oct(normalize(s.o + ls.dir * ls.dist - l.position));
     }
-    let lp = light_point(s, i, c.oct);
+    let lp = light_point_of(s, l, c.oct);
     c.p_hat = p_hat_of(s, lp);
     var pdf = 1.0 / f32(count);
     if l.kind == LIGHT_SPHERE {
@@ -192,11 +196,12 @@ fn stream(r: ptr<function, Reservoir>, light: u32, oct: vec2f, p_hat: f32, w: f3
 // result is unbiased, and a sample another surface could hardly have
 // drawn (its W large there) is weighted down as much here: no fireflies.
 // Each other reservoir costs three evaluations, not k + 1.
-// q̂ is p̂ without the surface's factor: what the weights compare
-// surfaces by.
+// q̂ is p̂ without the surface's factor (the luminance of
+// light_point's light): what the weights compare surfaces by.
 struct Pairwise {
     // The canonical reservoir (finished: w holds W), its q̂ and p̂ at c.
     canon: Reservoir,
+    canon_light: Light,
     canon_q: f32,
     // Its weight so far (before the common 1 / (M_c + sum M)).
     canon_weight: f32,
@@ -205,15 +210,12 @@ struct Pairwise {
     r: Reservoir,
 }
 
-fn q_hat(s: Surface, light: u32, oct: vec2f) -> f32 {
-    return luminance(light_point(s, light, oct).light);
-}
-
 fn pairwise_begin(c: Surface, canon: Reservoir, k: u32) -> Pairwise {
     var q = 0.0;
     var p = 0.0;
+    let light = load_light(select(0u, canon.light, canon.light != NO_SAMPLE));
     if canon.light != NO_SAMPLE {
-        let lp = light_point(c, canon.light, canon.oct);
+        let lp = light_point_of(c, light, canon.oct);
         q = luminance(lp.light);
         p = p_hat_of(c, lp);
     }
@@ -221,7 +223,7 @@ fn pairwise_begin(c: Surface, canon: Reservoir, k: u32) -> Pairwise {
     cr.p_hat = p;
     var r = empty_reservoir();
     r.m = canon.m;
-    return Pairwise(cr, q, select(canon.m, 0.0, k > 0u), f32(max(k, 1u)), r);
+    return Pairwise(cr, light, q, select(canon.m, 0.0, k > 0u), f32(max(k, 1u)), r);
 }
 
 // One of the k others: reservoir `ri` built at surface `si`, or none (a
@@ -236,16 +238,17 @@ fn pairwise_add(pw: ptr<function, Pairwise>, c: Surface, si: Surface, ri: Reserv
     (*pw).r.m += ri.m;
     // The canonical sample's share in this pair.
     if (*pw).canon.light != NO_SAMPLE {
-        let qi = ri.m * q_hat(si, (*pw).canon.light, (*pw).canon.oct);
+        let qi = ri.m * luminance(light_point_of(si, (*pw).canon_light, (*pw).canon.oct).light);
         let qc = mc * (*pw).canon_q;
         (*pw).canon_weight += pair * select(1.0, qc / (qi + qc), qi + qc > 0.0);
     }
     if ri.light == NO_SAMPLE || !(ri.w > 0.0) {
         return;
     }
-    let lp = light_point(c, ri.light, ri.oct);
+    let light = load_light(ri.light);
+    let lp = light_point_of(c, light, ri.oct);
     let p = p_hat_of(c, lp);
-    let qi = ri.m * q_hat(si, ri.light, ri.oct);
+    let qi = ri.m * luminance(light_point_of(si, light, ri.oct).light);
     let qc = mc * luminance(lp.light);
     let b = select(0.0, qi / (qi + qc), qi + qc > 0.0);
     // (Through a local: naga cannot pass a pointer to a struct member.)
