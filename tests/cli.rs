@@ -310,9 +310,10 @@ fn bench_thesis_writes_its_report() {
     for section in ["Adapter: **", "## Table 4.1", "## Convergence speed-up", "## Post-processing", "## Light scaling", "## Stress test"] {
         assert!(md.contains(section), "{section} missing:\n{md}");
     }
-    // Three environments with their speed-ups for both hybrids, and the
-    // light counts multiplied (3 x env3's one light; 1, 2, 4 in the stress scene).
-    for row in ["| 1 | hybrid |", "| 3 | hybrid-gi |", "| thesis-env3.ron | 3 |", "| thesis-stress.ron | 4 |"] {
+    // Three environments with their speed-ups for both hybrids and the
+    // real-time graph, and the light counts multiplied (3 x env3's one
+    // light; 1, 2, 4 in the stress scene).
+    for row in ["| 1 | hybrid |", "| 3 | hybrid-gi |", "| 2 | realtime |", "| thesis-env3.ron | 3 |", "| thesis-stress.ron | 4 |"] {
         assert!(md.contains(row), "{row} missing:\n{md}");
     }
     assert!(md.contains("longer than 0.001 ms a frame at every count"), "{md}");

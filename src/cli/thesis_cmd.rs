@@ -66,6 +66,7 @@ struct Paths {
     stress: PathBuf,
     hybrid: PathBuf,
     hybrid_gi: PathBuf,
+    realtime: PathBuf,
     pathtrace: PathBuf,
 }
 
@@ -76,6 +77,7 @@ impl Paths {
             stress: root.join("scenes/thesis-stress.ron"),
             hybrid: root.join("passes/hybrid.ron"),
             hybrid_gi: root.join("passes/hybrid-gi.ron"),
+            realtime: root.join("passes/realtime.ron"),
             pathtrace: root.join("passes/pathtrace.ron"),
         }
     }
@@ -153,7 +155,7 @@ pub fn run(args: ThesisArgs) -> Result<(), UserError> {
 
     // Table 4.1, post-processing and the speed-ups, per environment.
     let mut table = String::from(
-        "| environment | triangles | lights | hybrid | path tracer, 2 spp, 4 bounces | thesis (hybrid / path tracer) | hybrid-gi | pathtrace.ron (1 spp) |\n|---|---|---|---|---|---|---|---|\n",
+        "| environment | triangles | lights | hybrid | path tracer, 2 spp, 4 bounces | thesis (hybrid / path tracer) | hybrid-gi | realtime | pathtrace.ron (1 spp) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     let mut post = String::from(
         "| environment | with mask: frame | to FLIP 0.05 | to FLIP 0.02 | without: frame | to FLIP 0.05 | to FLIP 0.02 |\n|---|---|---|---|---|---|---|\n",
@@ -171,22 +173,24 @@ pub fn run(args: ThesisArgs) -> Result<(), UserError> {
             Run::new(&gpu, load()?, &paths.pathtrace, &thesis_pathtracer(), args.size)?,
             Run::new(&gpu, load()?, &paths.hybrid_gi, &Setting::plain(), args.size)?,
             Run::new(&gpu, load()?, &paths.pathtrace, &Setting::plain(), args.size)?,
+            Run::new(&gpu, load()?, &paths.realtime, &Setting::plain(), args.size)?,
         ];
         step_together(&mut runs, args.frames, Some(&reference), &format!("environment {n}"))?;
         let curves: Vec<Curve> = runs.into_iter().map(|r| r.finish().0).collect();
-        let [hybrid, pt2, gi, pt] = [&curves[0], &curves[1], &curves[2], &curves[3]];
+        let [hybrid, pt2, gi, pt, rt] = [&curves[0], &curves[1], &curves[2], &curves[3], &curves[4]];
         let (_, th_h, th_p) = THESIS_FPS[i];
         let _ = writeln!(
             table,
-            "| {n} | {triangles} | {lights} | {} | {} | {th_h:.0} / {th_p:.0} FPS | {} | {} |",
+            "| {n} | {triangles} | {lights} | {} | {} | {th_h:.0} / {th_p:.0} FPS | {} | {} | {} |",
             fps(med_ms(hybrid)),
             fps(med_ms(pt2)),
             fps(med_ms(gi)),
+            fps(med_ms(rt)),
             fps(med_ms(pt))
         );
         post.push_str(&post_processing(&gpu, &args, &paths, env, n)?);
         post.push('\n');
-        for g in [hybrid, gi] {
+        for g in [hybrid, gi, rt] {
             if let Some(s) = speed_up(g, pt) {
                 let slow = s.slow_ms.map_or(format!("not in {:.0} ms", s.slow_total_ms), |ms| format!("{ms:.0} ms"));
                 let _ = writeln!(speed, "| {n} | {} | {:.3} | {:.0} ms | {slow} | {} |", g.graph, s.flip, s.fast_ms, s.describe());
@@ -208,23 +212,23 @@ pub fn run(args: ThesisArgs) -> Result<(), UserError> {
 
     // Light scaling: environment 3 with three times its lights, the
     // stress scene with 1, 2 and 4.
-    let mut lights = String::from("| scene | lights | hybrid | path tracer, 2 spp, 4 bounces |\n|---|---|---|---|\n");
+    let mut lights = String::from("| scene | lights | hybrid | path tracer, 2 spp, 4 bounces | realtime |\n|---|---|---|---|---|\n");
     for (scene_path, factors) in [(&paths.envs[2], &[1u32, 3][..]), (&paths.stress, &[1, 2, 4][..])] {
         let mut runs = Vec::new();
         let mut counts = Vec::new();
         for &k in factors {
-            for setting in [Setting::plain(), thesis_pathtracer()] {
+            for (graph, setting) in [(&paths.hybrid, Setting::plain()), (&paths.pathtrace, thesis_pathtracer()), (&paths.realtime, Setting::plain())] {
                 let mut scene = crate::scene::load(scene_path)?;
                 scene.multiply_lights(k);
                 counts.push(scene.features.lights);
-                let graph = if setting.name.is_empty() { &paths.hybrid } else { &paths.pathtrace };
                 runs.push(Run::new(&gpu, scene, graph, &setting, args.size)?);
             }
         }
         step_together(&mut runs, args.frames, None, "light scaling")?;
         let name = scene_path.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
-        for (pair, count) in runs.chunks(2).zip(counts.chunks(2)) {
-            let _ = writeln!(lights, "| {name} | {} | {:.1} ms | {:.1} ms |", count[0], median(&pair[0].frame_ms()), median(&pair[1].frame_ms()));
+        for (three, count) in runs.chunks(3).zip(counts.chunks(3)) {
+            let ms = |k: usize| median(&three[k].frame_ms());
+            let _ = writeln!(lights, "| {name} | {} | {:.1} ms | {:.1} ms | {:.1} ms |", count[0], ms(0), ms(1), ms(2));
         }
     }
     let _ = writeln!(
