@@ -8,7 +8,8 @@
 // it by cone sampling) resampled into one by p̂ (RIS), then, with
 // `temporal`, resampled with last frame's reservoir where this pixel's hit
 // was, if that pixel saw the same surface (its M capped at `history_m`
-// times `candidates`, `moving_m` times in frames whose scene changed).
+// times `candidates`, `moving_m` times in frames whose scene changed, and
+// by the temporal gradients where light changed).
 // `last`: resampled with `spatial` neighbours' reservoirs within `radius`
 // pixels whose surface is alike (normals within `normal_cos`, the
 // neighbour's hit within `depth_tol` of this pixel's distance from its
@@ -24,6 +25,7 @@ struct Params {
     temporal: u32, // ui: 0..1 "reuse last frame's reservoir"
     history_m: f32, // ui: 0..64 "history M (x candidates)"
     moving_m: f32, // ui: 0..64 "history M while the scene moves (x candidates)"
+    gradient_gain: f32, // ui: 0..16 "gradient gain (0: gradients off)"
     spatial: u32, // ui: 0..8 "spatial neighbours"
     radius: f32, // ui: 1..64 "neighbour radius (pixels)"
     normal_cos: f32, // ui: 0..1 "normal cos"
@@ -41,6 +43,9 @@ struct Params {
 @group(0) @binding(5) var geo_prev: texture_storage_2d<rgba32float, read>;
 // This frame's reservoirs after `main`.
 @group(0) @binding(6) var reservoir_out: texture_storage_2d<rgba32uint, write>;
+// `main`: the temporal gradients (gradient.wgsl), read in frames whose
+// scene changed.
+@group(0) @binding(11) var gradient: texture_storage_2d<rgba32float, read>;
 // `last`:
 @group(0) @binding(7) var reservoir_in: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(8) var radiance: texture_storage_2d<rgba32float, read>;
@@ -101,7 +106,17 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             if frame.epoch_frames == 0u {
                 cap = params.moving_m;
             }
-            prev.m = min(prev.m, cap * f32(candidates));
+            var m_max = cap * f32(candidates);
+            // Where the light changed, last frame's reservoir weighs its
+            // sample by how the light was (a light that moved closer
+            // stays dark, then fades in over its history): cut it as
+            // temporal.wgsl cuts the denoiser's history, to (1 - g lambda)
+            // / (g lambda) times this frame's candidates.
+            if frame.epoch_frames == 0u && params.gradient_gain > 0.0 {
+                let lambda = min(params.gradient_gain * changed_share(gradient, then.xy), 1.0);
+                m_max = min(m_max, f32(candidates) * (1.0 - lambda) / max(lambda, 1e-6));
+            }
+            prev.m = min(prev.m, floor(m_max));
             var pw = pairwise_begin(s, r, 1u);
             pairwise_add(&pw, s, previous_surface(q, g), prev, true, &rng);
             r = pairwise_end(&pw, &rng);

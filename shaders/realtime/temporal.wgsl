@@ -60,9 +60,6 @@ struct Params {
 // from the pixel's own moments (variance.wgsl refines it).
 @group(0) @binding(15) var filter_in: texture_storage_2d<rgba32float, write>;
 
-// Pixels per side of a gradient stratum (gradient.wgsl).
-const STRATUM: f32 = 3.0;
-
 // Whether the scene changed since last frame, with a last frame in the
 // history (a new session's first frame has none).
 fn scene_changed() -> bool {
@@ -139,23 +136,6 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> State 
     return h;
 }
 
-// The share of the light around last frame's pixel position `then`
-// that changed this frame: the 3x3 gradient strata around it, summed.
-fn changed_share(then: vec2f) -> f32 {
-    let c = vec2i(floor(then / STRATUM));
-    let strata = vec2i(textureDimensions(gradient));
-    var diff = 0.0;
-    var scale = 0.0;
-    let taps = 9u * u32(frame.exact_one);
-    for (var k = 0u; k < taps; k++) {
-        let q = clamp(c + vec2i(i32(k % 3u) - 1, i32(k / 3u) - 1), vec2i(0), strata - 1);
-        let g = textureLoad(gradient, q);
-        diff += g.x;
-        scale += g.y;
-    }
-    return select(0.0, clamp(diff / scale, 0.0, 1.0), scale > 0.0);
-}
-
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
@@ -189,7 +169,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     if scene_changed() && params.gradient_gain > 0.0 && n > 0.0 {
         let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
-        let lambda = min(params.gradient_gain * changed_share(then.xy), 1.0);
+        let lambda = min(params.gradient_gain * changed_share(gradient, then.xy), 1.0);
         n = min(n, (1.0 - lambda) / max(lambda, 1e-6));
     }
     if valid {

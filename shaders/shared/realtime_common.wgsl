@@ -1,7 +1,7 @@
 // What the real-time denoiser's passes share (shaders/realtime/): the
-// `guide` texture temporal.wgsl writes and the spatial passes read, and
-// the edge-stopping weights between two pixels' surfaces (SVGF, Schied et
-// al. 2017).
+// `guide` texture temporal.wgsl writes and the spatial passes read, the
+// edge-stopping weights between two pixels' surfaces (SVGF, Schied et
+// al. 2017), and how much light changed around a pixel (the gradients).
 #import frame
 
 // guide's w where a pixel shows no lit surface (a miss, a light): the
@@ -49,4 +49,25 @@ fn geometry_weight(p: Guide, q: Guide, dist: f32, depth_sigma: f32) -> f32 {
     let footprint = length(p.p) * 2.0 * frame.camera.tan_half_fov / f32(frame.size.y);
     let plane = abs(dot(q.p - p.p, p.n));
     return c * exp(-plane / (depth_sigma * footprint * dist + 1e-20));
+}
+
+// Pixels per side of a gradient stratum (shaders/realtime/gradient.wgsl).
+const GRADIENT_STRATUM: f32 = 3.0;
+
+// The share of the light around last frame's pixel position `then`
+// that changed this frame: the 3x3 strata of `gradient` (written by
+// gradient.wgsl in frames whose scene changed) around it, summed.
+fn changed_share(gradient: texture_storage_2d<rgba32float, read>, then: vec2f) -> f32 {
+    let c = vec2i(floor(then / GRADIENT_STRATUM));
+    let strata = vec2i(textureDimensions(gradient));
+    var diff = 0.0;
+    var scale = 0.0;
+    let taps = 9u * u32(frame.exact_one);
+    for (var k = 0u; k < taps; k++) {
+        let q = clamp(c + vec2i(i32(k % 3u) - 1, i32(k / 3u) - 1), vec2i(0), strata - 1);
+        let g = textureLoad(gradient, q);
+        diff += g.x;
+        scale += g.y;
+    }
+    return select(0.0, clamp(diff / scale, 0.0, 1.0), scale > 0.0);
 }

@@ -144,3 +144,26 @@ pub fn pathtrace_with_gbuffer(name: &str) -> PathBuf {
     std::fs::write(&path, stored).expect("write the graph");
     path
 }
+
+/// A Cornell box lit by one sphere light that moves with `Linear` motion:
+/// at time 0 it is left of centre, at time 1 right of it.
+pub const JUMPING_LIGHT: &str = r#"Scene(
+    camera: Camera(position: (0.0, 0.0, 3.4), target: (0.0, 0.0, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 40.0),
+    materials: {
+        "white": Material(albedo: (0.725, 0.71, 0.68)),
+        "red":   Material(albedo: (0.63, 0.065, 0.05)),
+        "green": Material(albedo: (0.14, 0.45, 0.091)),
+    },
+    objects: [
+        Quad(vertices: [(-1.0, -1.0, -1.0), (-1.0, -1.0, 1.0), (1.0, -1.0, 1.0), (1.0, -1.0, -1.0)], material: "white"),
+        Quad(vertices: [(-1.0, 1.0, -1.0), (1.0, 1.0, -1.0), (1.0, 1.0, 1.0), (-1.0, 1.0, 1.0)], material: "white"),
+        Quad(vertices: [(-1.0, -1.0, -1.0), (1.0, -1.0, -1.0), (1.0, 1.0, -1.0), (-1.0, 1.0, -1.0)], material: "white"),
+        Quad(vertices: [(-1.0, -1.0, -1.0), (-1.0, 1.0, -1.0), (-1.0, 1.0, 1.0), (-1.0, -1.0, 1.0)], material: "red"),
+        Quad(vertices: [(1.0, -1.0, -1.0), (1.0, -1.0, 1.0), (1.0, 1.0, 1.0), (1.0, 1.0, -1.0)], material: "green"),
+        Sphere(center: (-0.1, -0.65, -0.3), radius: 0.35, material: "white"),
+    ],
+    lights: [
+        SphereLight(center: (-0.7, 0.2, 0.3), radius: 0.12, radiance: (12.0, 12.0, 12.0),
+                    motion: Linear(velocity: (1.4, 0.0, 0.0))),
+    ],
+)"#;
