@@ -19,7 +19,8 @@
 // Reservoir texels (Rgba32Uint): the light index in the low 20 bits and
 // the candidate count M (at most 4095) in the high 12, the unbiased
 // contribution weight W (f32 bits), the octahedral direction from the
-// light's centre (two f32s). An empty reservoir has light NO_SAMPLE.
+// light's centre (two f32s). An empty reservoir has light NO_SAMPLE. (So
+// a scene of more than 2^20 - 1 lights would need another layout.)
 const NO_SAMPLE: u32 = 0xfffffu;
 const MAX_M: f32 = 4095.0;
 
@@ -72,9 +73,10 @@ fn make_surface(p: vec3f, n: vec3f, ng: vec3f, weight: vec3f) -> Surface {
     return Surface(p, offset_ray(p, ng), n, ng, weight, valid);
 }
 
-// The sample's point on its light and what it emits toward `s`: the
-// light it brings unshadowed (its rgb, before the surface's factor) and
-// the shadow ray toward it. `area`: a sphere light (area measure).
+// The sample's point on its light seen from `s`: the light it brings
+// unshadowed (rgb, before the surface's factor; 0 where the point faces
+// away or lies below the surface), the shadow ray toward it, and the
+// cosine at the light and squared distance (a point light: 1 and d^2).
 struct LightPoint {
     light: vec3f,
     dir: vec3f,
