@@ -26,7 +26,7 @@ fn read(s: &Session, resource: &str) -> ImageF32 {
 }
 
 fn mean_luminance(img: &ImageF32) -> f64 {
-    img.data.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).sum::<f64>() / img.data.len() as f64
+    img.data.iter().map(luminance).sum::<f64>() / img.data.len() as f64
 }
 
 /// `frames` still frames of `graph` at `time`; its output.
@@ -120,10 +120,9 @@ fn a_light_jump_drops_stale_history_where_light_changed_and_leaves_no_ghost() {
     // Where the light changed by more than half, history started over
     // after the jump; where it changed by under 10%, it was kept (capped
     // by the gradients and at `moving_history` in the jump's frame).
-    let lum = |p: &[f32; 4]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
     let (mut changed, mut changed_reset, mut same, mut same_kept) = (0, 0, 0, 0);
     for ((b, a), n) in before.data.iter().zip(&after.data).zip(&lengths.data) {
-        let (lb, la) = (lum(b), lum(a));
+        let (lb, la) = (luminance(b), luminance(a));
         if lb.max(la) < 0.02 {
             continue;
         }

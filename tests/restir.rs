@@ -41,7 +41,7 @@ fn frames_of(gpu: &glint::gpu::Gpu, scene: Scene, graph: &std::path::Path, resou
         .map(|_| {
             s.frame(0.0);
             let img = s.read_resource(resource).expect("kept").unwrap_or_else(|e| panic!("{e}"));
-            img.data.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).collect()
+            img.data.iter().map(luminance).collect()
         })
         .collect()
 }

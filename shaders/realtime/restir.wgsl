@@ -144,6 +144,9 @@ fn last(@builtin(global_invocation_id) id: vec3u) {
             let a = 2.0 * PI * u.y;
             let q = pixel + vec2i(round(params.radius * sqrt(u.x) * vec2f(cos(a), sin(a))));
             let inside = any(q != pixel) && all(q >= vec2i(0)) && all(q < vec2i(frame.size));
+            // (A neighbour off the image loads this pixel instead and is
+            // not taken: no branch around the loads, which a CPU driver
+            // would run under a mask anyway.)
             let qc = select(pixel, q, inside);
             let sq = surface_at(qc);
             let alike = inside && sq.valid && dot(sq.n, s.n) >= params.normal_cos && abs(dot(sq.p - s.p, s.n)) <= params.depth_tol * depth;

@@ -167,3 +167,8 @@ pub const JUMPING_LIGHT: &str = r#"Scene(
                     motion: Linear(velocity: (1.4, 0.0, 0.0))),
     ],
 )"#;
+
+/// A pixel's luminance (Rec. 709 weights, as the shaders' `luminance`).
+pub fn luminance(p: &[f32; 4]) -> f64 {
+    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+}
