@@ -52,26 +52,31 @@ fn filter_at(p: vec2i) -> vec4f {
     // for every lane once the image has stood still long enough).
     let still_enough = params.until_frames > 0u && frame.accum_count >= params.until_frames;
     let taps = select(0u, 9u, gp.surface && !still_enough) * u32(frame.exact_one);
+    let plane_scale = plane_scale(gp, params.depth_sigma) / f32(STEP);
+    // The tap's offset, stepped through the 3x3 in rows without an integer
+    // division (a SIMD CPU driver divides one lane at a time).
+    var d = vec2i(-1, -1);
     for (var k = 0u; k < taps; k++) {
-        let d = vec2i(i32(k % 3u) - 1, i32(k / 3u) - 1);
-        if all(d == vec2i(0)) {
-            continue;
-        }
         let q = p + d * STEP;
-        if any(q < vec2i(0)) || any(q >= size) {
-            continue;
+        if k != 4u && all(q >= vec2i(0)) && all(q < size) {
+            let tap = textureLoad(filtered_in, q);
+            let diagonal = d.x != 0 && d.y != 0;
+            let kernel = select(0.125, 0.0625, diagonal);
+            let colour = max(abs(tap.r - own.r), max(abs(tap.g - own.g), abs(tap.b - own.b)));
+            // In units of the difference's own deviation (both means' noise):
+            // a symmetric test, so a noisy pixel that its neighbours smooth
+            // also spreads into them and the filter keeps the image's energy.
+            let scale = 1.0 / (params.sigma_l * sqrt(own.a + tap.a) + 1e-20);
+            let dist = select(1.0, 1.0 / sqrt(2.0), diagonal);
+            let w = kernel * geometry_weight_scaled(gp, load_guide(guide, q), plane_scale * dist, colour * scale);
+            sum += w * tap.rgb;
+            var_sum += w * w * tap.a;
+            wsum += w;
         }
-        let tap = textureLoad(filtered_in, q);
-        let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
-        let colour = max(abs(tap.r - own.r), max(abs(tap.g - own.g), abs(tap.b - own.b)));
-        // In units of the difference's own deviation (both means' noise):
-        // a symmetric test, so a noisy pixel that its neighbours smooth
-        // also spreads into them and the filter keeps the image's energy.
-        let scale = 1.0 / (params.sigma_l * sqrt(own.a + tap.a) + 1e-20);
-        let w = kernel * geometry_weight(gp, load_guide(guide, q), f32(STEP) * length(vec2f(d)), params.depth_sigma) * exp(-colour * scale);
-        sum += w * tap.rgb;
-        var_sum += w * w * tap.a;
-        wsum += w;
+        d.x += 1;
+        if d.x > 1 {
+            d = vec2i(-1, d.y + 1);
+        }
     }
     return vec4f(sum / wsum, var_sum / (wsum * wsum));
 }

@@ -145,9 +145,11 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let nw = textureLoad(gbuf_normal, id.xy);
     let ids = textureLoad(gbuf_id, id.xy);
     let miss = g.w < 0.0;
-    let surface = !miss && is_lit_surface(ids);
-    // (Material 0 stands in on a miss, whose id is NO_HIT: no load out of range.)
-    let a = select(vec3f(0.0), load_material(select(0u, ids.x, surface)).albedo, surface);
+    // One material load (material 0 stands in on a miss, whose id is
+    // NO_HIT: no load out of range).
+    let m = load_material(select(ids.x, 0u, miss));
+    let surface = !miss && ids.y != NO_OBJECT && !is_emissive(m);
+    let a = select(vec3f(0.0), m.albedo, surface);
     // Demodulated: the radiance over the albedo, channels without albedo 0
     // (remodulation multiplies them by it again).
     var l = textureLoad(radiance, id.xy).rgb;
@@ -187,5 +189,5 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     textureStore(albedo, id.xy, vec4f(h.albedo, 1.0));
     textureStore(geo, id.xy, vec4f(normal_to_oct(nw.xyz), select(g.w, -1.0, miss), luminance(l)));
     let rel = g.xyz - frame.camera.origin;
-    textureStore(guide, id.xy, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack2x16snorm(normal_to_oct(nw.xyz)), surface)));
+    textureStore(guide, id.xy, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(nw.xyz), surface)));
 }
