@@ -67,8 +67,8 @@ fn filter_at(p: vec2i) -> vec4f {
             // a symmetric test, so a noisy pixel that its neighbours smooth
             // also spreads into them and the filter keeps the image's energy.
             let scale = 1.0 / (params.sigma_l * sqrt(own.a + tap.a) + 1e-20);
-            let dist = select(1.0, 1.0 / sqrt(2.0), diagonal);
-            let w = kernel * geometry_weight_scaled(gp, load_guide(guide, q), plane_scale * dist, colour * scale);
+            let inv_dist = select(1.0, 1.0 / sqrt(2.0), diagonal);
+            let w = kernel * geometry_weight(gp, load_guide(guide, q), plane_scale * inv_dist, colour * scale);
             sum += w * tap.rgb;
             var_sum += w * w * tap.a;
             wsum += w;

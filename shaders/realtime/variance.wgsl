@@ -43,12 +43,19 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         var s1 = 0.0;
         var s2 = 0.0;
         var wsum = 0.0;
+        let plane_scale = plane_scale(gp, params.depth_sigma);
+        // The tap's offset, stepped through the 5x5 in rows without an
+        // integer division (a SIMD CPU driver divides one lane at a time).
+        var d = vec2i(-2, -2);
         for (var k = 0u; k < taps; k++) {
-            let d = vec2i(i32(k % 5u), i32(k / 5u)) - 2;
             let q = clamp(p + d, vec2i(0), size - 1);
             var w = 1.0;
-            if any(d != vec2i(0)) {
-                w = geometry_weight(gp, load_guide(guide, q), length(vec2f(d)), params.depth_sigma);
+            if k != 12u {
+                w = geometry_weight(gp, load_guide(guide, q), plane_scale * inverseSqrt(f32(dot(d, d))), 0.0);
+            }
+            d.x += 1;
+            if d.x > 2 {
+                d = vec2i(-2, d.y + 1);
             }
             let iq = textureLoad(filter_in, q).rgb;
             let l = luminance(iq);
@@ -71,11 +78,15 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
         // only the noise's level is blurred.
         let taps = 9u * u32(frame.exact_one);
+        var d = vec2i(-1, -1);
         for (var k = 0u; k < taps; k++) {
-            let d = vec2i(i32(k % 3u), i32(k / 3u)) - 1;
             let q = clamp(p + d, vec2i(0), size - 1);
             let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
             var_mean += kernel * textureLoad(filter_in, q).a;
+            d.x += 1;
+            if d.x > 1 {
+                d = vec2i(-1, d.y + 1);
+            }
         }
     }
     textureStore(filtered, id.xy, vec4f(value, var_mean));

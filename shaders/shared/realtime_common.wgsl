@@ -54,17 +54,12 @@ fn plane_scale(p: Guide, depth_sigma: f32) -> f32 {
 // SVGF's cos^64 near cos 1 (0.0017 against 0.0012 at 26 degrees).
 const NORMAL_SHARPNESS: f32 = 32.0;
 
-// How much pixel q's surface counts toward pixel p's, `dist` pixels away:
-// normals within a narrow cone, and q's hit near p's tangent plane
-// (within `depth_sigma` pixel footprints per pixel of distance).
-fn geometry_weight(p: Guide, q: Guide, dist: f32, depth_sigma: f32) -> f32 {
-    return geometry_weight_scaled(p, q, plane_scale(p, depth_sigma) / dist, 0.0);
-}
-
-// geometry_weight with its plane scale (plane_scale over the distance)
-// given, times exp(-extra): one exponential for both surface tests and the
-// caller's own.
-fn geometry_weight_scaled(p: Guide, q: Guide, scale: f32, extra: f32) -> f32 {
+// How much pixel q's surface counts toward pixel p's, times exp(-extra)
+// (one exponential for both surface tests and the caller's own): normals
+// within a narrow cone, and q's hit near p's tangent plane, within
+// `depth_sigma` pixel footprints per pixel of distance (`scale`:
+// plane_scale over the distance in pixels).
+fn geometry_weight(p: Guide, q: Guide, scale: f32, extra: f32) -> f32 {
     if !p.surface || !q.surface {
         return 0.0;
     }
