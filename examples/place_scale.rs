@@ -1,4 +1,5 @@
-//! The README's place-and-scale table: the Cornell box moved and scaled as
+//! The place-and-scale table of docs/acceleration.md ("Any place, any
+//! scale"): the Cornell box moved and scaled as
 //! text (tests/common/scene_text.rs), rendered with every shipped graph,
 //! FLIP mean against the untouched box with the same seed.
 //!

@@ -164,13 +164,19 @@ impl Choice {
     }
 }
 
+/// `passes/bench-*.ron`: the benchmarks' graphs (`glint bench rays`),
+/// whose outputs are ray records, not images: not offered for viewing.
+fn is_benchmark(p: &Path) -> bool {
+    p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("bench-"))
+}
+
 /// Picks the graph for this adapter (see `Choice`).
 pub fn choose(gpu: &Gpu, graph: Option<&Path>) -> Result<Choice, UserError> {
     let path = Machines::default_path();
     let m = Machines::load(&path)?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut graphs: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .map(|rd| rd.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "ron") && p != &path).collect())
+        .map(|rd| rd.flatten().map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "ron") && p != &path && !is_benchmark(p)).collect())
         .unwrap_or_default();
     graphs.sort();
     let mut profiles = m.profiles.clone();

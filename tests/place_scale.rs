@@ -9,7 +9,8 @@
 //! Now the world is f64 and the GPU sees it rebased on a grid point near
 //! the camera (src/session/scene_gpu.rs), and the offsets are relative to
 //! the scene (`frame.offset_scale`, src/bvh/offset.rs).
-//! `cargo run --release --example place_scale` prints the README's table.
+//! `cargo run --release --example place_scale` prints the table in
+//! docs/acceleration.md ("Any place, any scale").
 
 mod common;
 

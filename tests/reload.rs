@@ -141,8 +141,11 @@ fn shared_import_edit_rebuilds_exactly_the_passes_that_import_it() {
     // The swap restarted the frame state: the same frames as before the edit.
     assert!(same(&frames(&mut s, 2), &before), "a comment-only edit changed the image");
 
+    let kept = s.accumulated();
     let again = s.reload_shaders(std::slice::from_ref(&rng)).unwrap_or_else(|e| panic!("{e}"));
     assert!(again.rebuilt.is_empty(), "a reload without a change rebuilt {:?}", again.rebuilt);
+    assert_eq!(s.accumulated(), kept, "a reload that changed nothing keeps the history");
+    s.restart();
     assert!(same(&frames(&mut s, 2), &before));
 }
 
@@ -424,7 +427,7 @@ fn watch_picks_up_each_save_once_and_keeps_the_last_good_shader() {
     write(&tmp, &lights_scaled(&original, "0.9"));
     std::fs::rename(&tmp, &lights).expect("rename over lights.wgsl");
     let reloaded = w.expect("reloaded ", LINE_TIMEOUT);
-    assert!(names.iter().any(|n| reloaded.starts_with(&format!("reloaded {n}: 1 passes rebuilt"))), "{reloaded}");
+    assert!(names.iter().any(|n| reloaded.starts_with(&format!("reloaded {n}: 1 pass rebuilt"))), "{reloaded}");
     let extra = w.barrier(&ws);
     assert!(extra.is_empty(), "a rename-over save was picked up more than once: {extra:?}\n{}", w.output());
     assert!(differing(&load_png(&out), &first) > 0, "the output did not change after the reload");
@@ -440,7 +443,7 @@ fn watch_picks_up_each_save_once_and_keeps_the_last_good_shader() {
         f.write_all(text.as_bytes()).expect("write lights.wgsl");
     }
     let reloaded = w.expect("reloaded ", LINE_TIMEOUT);
-    assert!(names.iter().any(|n| reloaded.starts_with(&format!("reloaded {n}: 1 passes rebuilt"))), "{reloaded}");
+    assert!(names.iter().any(|n| reloaded.starts_with(&format!("reloaded {n}: 1 pass rebuilt"))), "{reloaded}");
     let extra = w.barrier(&ws);
     assert!(extra.is_empty(), "a truncate-then-write save was picked up more than once: {extra:?}\n{}", w.output());
     let before_burst = load_png(&out);

@@ -140,3 +140,104 @@ fn window_shows_what_render_renders() {
     // The EXR beside the screenshot is the graph output itself.
     assert!(Path::new(&shot.with_extension("exr")).is_file());
 }
+
+/// Runs `script` (bash, with `$GLINT` the binary) under Xvfb with xdotool;
+/// None where either is missing outside CI.
+fn under_xvfb(script: &str) -> Option<std::process::Output> {
+    let has = |tool: &str, arg: &str| Command::new(tool).arg(arg).output().is_ok();
+    if !has("xvfb-run", "--help") || !has("xdotool", "version") {
+        assert!(std::env::var("CI").map_or(true, |v| v != "true"), "CI needs xvfb-run and xdotool (tools/test installs them)");
+        eprintln!("skipping: no xvfb-run or xdotool");
+        return None;
+    }
+    gpu()?;
+    Some(
+        Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24", "bash", "-c", script])
+            .current_dir(repo())
+            .env("WGPU_BACKEND", "vulkan")
+            .env("GLINT", env!("CARGO_BIN_EXE_glint"))
+            .output()
+            .expect("run xvfb-run"),
+    )
+}
+
+#[test]
+fn keys_and_mouse_reach_the_viewer_without_a_window_manager() {
+    // No window manager: the window gets keyboard focus only when given it,
+    // and the mouse events arrive between frames. The window is the panel
+    // (340 points) and the 160x120 image beside it.
+    let script = r#"
+        "$GLINT" view scenes/cornell.ron --graph passes/hybrid.ron --size 160x120 &
+        pid=$!
+        for i in $(seq 120); do wid=$(xdotool search --name "glint:" 2>/dev/null | head -1); [ -n "$wid" ] && break; sleep 0.5; done
+        sleep 3
+        xdotool windowfocus "$wid"; sleep 0.3
+        xdotool key c; sleep 1
+        xdotool mousemove --window "$wid" 400 100 sleep 0.3 mousedown 3 sleep 0.3 mousemove --window "$wid" 430 120 sleep 0.3 mousemove --window "$wid" 460 140 sleep 0.3 mouseup 3
+        sleep 1
+        xdotool key c; sleep 1
+        xdotool key Escape
+        wait $pid
+        echo "exit $?"
+    "#;
+    let Some(out) = under_xvfb(script) else { return };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let cameras: Vec<&str> = stdout.lines().filter(|l| l.starts_with("camera: Camera(")).collect();
+    assert_eq!(cameras.len(), 2, "C prints the camera: {stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert_ne!(cameras[0], cameras[1], "a right-drag over the image turns the camera");
+    assert!(stdout.lines().any(|l| l == "exit 0"), "Esc quits with exit 0: {stdout}");
+}
+
+#[test]
+fn the_fps_and_frame_plot_show_what_the_frames_took() {
+    // The test's own clock: from the first frame's line to the last's.
+    let Some(_) = under_xvfb("true") else { return };
+    let glint = env!("CARGO_BIN_EXE_glint");
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24", glint, "view", "scenes/cornell.ron", "--graph", "passes/pathtrace.ron", "--size", "96x64", "--frames", "40", "--screenshot"])
+        .arg(scratch("viewer-fps").join("shot.png"))
+        .current_dir(repo())
+        .env("WGPU_BACKEND", "vulkan")
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("run xvfb-run");
+    use std::io::BufRead as _;
+    let lines = std::io::BufReader::new(child.stdout.take().expect("stdout"));
+    let (mut first, mut last) = (None, None);
+    for line in lines.lines().map_while(Result::ok) {
+        if line == "first frame presented" {
+            first = Some(std::time::Instant::now());
+        } else if line.starts_with("last frame presented") {
+            last = Some((std::time::Instant::now(), line));
+        }
+    }
+    assert!(child.wait().expect("wait").success());
+    let (first, (end, line)) = (first.expect("a first-frame line"), last.expect("a last-frame line"));
+    let measured_ms = end.duration_since(first).as_secs_f64() * 1e3 / 39.0;
+    let figure = |key: &str| -> f64 {
+        let before = line.split(key).next().unwrap_or_else(|| panic!("no `{key}` in `{line}`"));
+        before.trim_end().rsplit([' ', ',']).next().and_then(|s| s.parse().ok()).unwrap_or_else(|| panic!("no figure before `{key}` in `{line}`"))
+    };
+    let fps = figure(" FPS shown");
+    let plot_ms = figure(" ms, last");
+    eprintln!("{line}; measured {measured_ms:.1} ms a frame");
+    assert!((fps * measured_ms / 1e3 - 1.0).abs() <= 0.2, "FPS shown {fps} against {:.2} measured", 1e3 / measured_ms);
+    assert!((plot_ms / measured_ms - 1.0).abs() <= 0.2, "the plot's frame time {plot_ms} ms against {measured_ms:.1} ms measured");
+}
+
+#[test]
+fn a_screenshot_that_cannot_be_written_fails_the_run() {
+    let Some(_) = under_xvfb("true") else { return };
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_glint"), "view", "scenes/cornell.ron", "--graph", "passes/hybrid.ron"])
+        .args(["--size", "64x48", "--frames", "2", "--screenshot", "/nonexistent-folder/shot.png"])
+        .current_dir(repo())
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .expect("run xvfb-run");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "exit code; stderr: {stderr}");
+    assert!(stderr.contains("nonexistent-folder"), "{stderr}");
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("watching"), "a scripted run watches nothing");
+}

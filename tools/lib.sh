@@ -30,9 +30,12 @@ ensure_cxx() {
 }
 
 ensure_xvfb() {
-    # The viewer's test runs a window under Xvfb.
+    # The viewer's tests run a window under Xvfb and drive it with xdotool.
     if ! command -v xvfb-run >/dev/null 2>&1; then
         apt_install xvfb
+    fi
+    if ! command -v xdotool >/dev/null 2>&1; then
+        apt_install xdotool
     fi
 }
 

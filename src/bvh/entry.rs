@@ -8,8 +8,8 @@
 //! with the entries whose boxes it hits on its stack instead of at the
 //! root (`traverse_camera` in shaders/shared/intersect.wgsl), the entries
 //! read from a uniform (`scene_entries`). The entries cost their own box
-//! tests: about a tenth of a Sponza primary ray's time for its 18 (README,
-//! "Where camera rays enter").
+//! tests: about a tenth of a Sponza primary ray's time for its 18
+//! (docs/acceleration.md, "Where camera rays enter").
 //!
 //! Any cut of the tree gives the same hits as the root does: every leaf
 //! lies under exactly one entry, and an entry's box holds its subtree's.

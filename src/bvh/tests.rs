@@ -1,5 +1,5 @@
-//! Tests of the BVH and the ray math on the CPU mirror (README, "Acceleration"
-//! and "Tests"): BVH traversal against brute force, watertightness, offsetting
+//! Tests of the BVH and the ray math on the CPU mirror (docs/acceleration.md
+//! and docs/tests.md): BVH traversal against brute force, watertightness, offsetting
 //! ray origins off surfaces, ray/sphere precision, and NaN/Inf/zero rays.
 //!
 //! Every scene is built as the renderer builds it: world-space triangles in

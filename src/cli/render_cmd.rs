@@ -211,9 +211,13 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     let pass_total: f64 = medians.iter().map(|(_, ms)| ms).sum();
     let outs: Vec<String> = args.out.iter().map(|p| p.display().to_string()).collect();
     let passes = if medians.is_empty() { format!("per pass: {how}") } else { format!("sum of pass medians {pass_total:.2} ms ({how})") };
-    let (w, h) = session.executor.output_size();
+    // The file's size; a machine profile's scale renders smaller and
+    // upscales, which is said too.
+    let (w, h) = args.size;
+    let (rw, rh) = session.executor.output_size();
+    let rendered = if (rw, rh) == (w, h) { String::new() } else { format!(", rendered at {rw}x{rh}") };
     out!(
-        "wrote {} ({w}x{h}); {} frames in {seconds:.2} s; median {:.2} ms/frame wall; {passes}",
+        "wrote {} ({w}x{h}{rendered}); {} frames in {seconds:.2} s; median {:.2} ms/frame wall; {passes}",
         outs.join(", "),
         args.frames,
         median(&frames.stats.frame_ms),

@@ -39,8 +39,8 @@ pub struct TradeArgs {
     /// Frames of the path-traced reference.
     #[arg(long, default_value_t = 1024)]
     pub reference_frames: u32,
-    /// Settings to render every graph with (README, "Speed against
-    /// accuracy"): param values, resolution scale, PID target, specialisation.
+    /// Settings to render every graph with (docs/trade.md, "Sweeps"):
+    /// param values, resolution scale, PID target, specialisation.
     #[arg(long)]
     pub sweep: Option<PathBuf>,
     /// Leave every shader generic (without a sweep; a sweep says it per setting).

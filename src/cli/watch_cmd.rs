@@ -2,7 +2,7 @@
 //! render it waits for saves; each batch of changed files becomes rebuilds
 //! (see `reload::classify`), each built aside and swapped in only when it
 //! succeeded, and the outputs are rendered again. One line per event:
-//! `reloaded <file>: <n> passes rebuilt in <ms> ms`, or
+//! `reloaded <file>: <n> passes rebuilt in <ms> ms` ("1 pass rebuilt"), or
 //! `error: <file>:<line>:<col>: <message> (keeping the last good <what>)`.
 //! Ctrl-C (SIGINT) ends it with exit code 0.
 
@@ -24,7 +24,7 @@ fn subject(kind: &RebuildKind, changed: &[PathBuf], sources: &Sources) -> String
     let list = |files: &[&PathBuf]| files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>().join(", ");
     match kind {
         RebuildKind::Shaders(files) => list(&files.iter().collect::<Vec<_>>()),
-        RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) => p.display().to_string(),
+        RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) | RebuildKind::OpenScene(p) => p.display().to_string(),
         RebuildKind::Scene(p) => {
             let meshes: Vec<&PathBuf> = changed
                 .iter()
@@ -70,6 +70,10 @@ fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop) -> Resu
             let result = session.job(kind).run().and_then(|r| session.commit(r));
             match result {
                 Ok(report) => {
+                    // Each output is a render from the start, as a fresh
+                    // `glint render` makes it (a commit that changed nothing
+                    // would otherwise keep accumulating).
+                    session.restart();
                     frames.time = args.time;
                     frames.stats = FrameStats::default();
                     // A failed write (a full disk, a folder gone) is reported
@@ -78,7 +82,7 @@ fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop) -> Resu
                         out!("{}", relative_to_cwd(&format!("error: {e} (the rebuild of {file} is in place; the output was not written)")));
                         continue;
                     }
-                    let line = format!("reloaded {file}: {} passes rebuilt in {:.0} ms", report.rebuilt.len(), start.elapsed().as_secs_f64() * 1e3);
+                    let line = format!("reloaded {file}: {} in {:.0} ms", report.passes_rebuilt(), start.elapsed().as_secs_f64() * 1e3);
                     out!("{}", relative_to_cwd(&line));
                 }
                 Err(e) => out!("{}", relative_to_cwd(&format!("error: {e} (keeping the last good {what})"))),

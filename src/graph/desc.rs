@@ -1,4 +1,4 @@
-//! The RON schema of a frame graph (README, "The frame graph"). A graph file knows
+//! The RON schema of a frame graph (docs/frame-graph.md). A graph file knows
 //! nothing about wgpu: resources, passes and the output.
 
 use std::collections::BTreeMap;

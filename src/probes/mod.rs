@@ -1,5 +1,5 @@
-//! Irradiance probes, the Rust side of the irradiance volume (README,
-//! "Global illumination"): how a direction maps to a texel of a probe's
+//! Irradiance probes, the Rust side of the irradiance volume
+//! (docs/global-illumination.md): how a direction maps to a texel of a probe's
 //! maps, how a position maps to the probes around it, and the volume file.
 //! shaders/shared/probes.wgsl mirrors the maps and the grid; they are
 //! tested here without a GPU and against the shaders in

@@ -1,5 +1,5 @@
 //! The scene: RON schema, hecs world and components, OBJ loading, scene
-//! features, and packing into GPU arrays (README, "Scenes").
+//! features, and packing into GPU arrays (docs/scenes.md).
 //!
 //! `load`/`parse` turn a scene file into a [`Scene`]: an hecs world with one
 //! entity per object and light, a local-space mesh store and the material

@@ -178,7 +178,7 @@ fn face_problem(args: &[&str], counts: [i64; 3]) -> Option<String> {
 /// Every `usemtl` of the OBJ names a material its libraries define;
 /// otherwise the error names the OBJ line (a garbage MTL made faces
 /// silently fall back to the default material). Without any library file
-/// on disk the fallback is what the README promises, and no error.
+/// on disk the fallback is what docs/usage.md ("Bad input") promises, and no error.
 fn check_usemtl(path: &Path, materials: &[tobj::Material]) -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read OBJ file {}: {e}", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new(""));

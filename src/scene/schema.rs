@@ -1,4 +1,4 @@
-//! The RON scene format (README, "Scenes"), exactly as written in the
+//! The RON scene format (docs/scenes.md), exactly as written in the
 //! file. Validation and the conversion into an hecs world live in
 //! `validate.rs` and `load.rs`.
 

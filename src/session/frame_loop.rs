@@ -90,12 +90,19 @@ pub struct FrameLoop {
     pub base_camera: Camera,
     pub target: Option<FrameTarget>,
     pub stats: FrameStats,
+    /// The last step's wall time was longer than scene time may advance
+    /// in one frame (MAX_STEP_S): animations run slower than the clock.
+    pub slowed: bool,
     last_step: Option<Instant>,
 }
 
+/// The most scene time one frame of the real clock advances: a stall (a
+/// window drag, a breakpoint, a multi-second frame) is not a jump.
+pub const MAX_STEP_S: f32 = 0.25;
+
 impl FrameLoop {
     pub fn new(time: f32, clock: Clock, base_camera: Camera) -> FrameLoop {
-        FrameLoop { time, clock, paused: false, camera_path: None, base_camera, target: None, stats: FrameStats::default(), last_step: None }
+        FrameLoop { time, clock, paused: false, camera_path: None, base_camera, target: None, stats: FrameStats::default(), slowed: false, last_step: None }
     }
 
     /// Renders one frame: camera from the path, the frame, the PID update
@@ -104,8 +111,9 @@ impl FrameLoop {
         let now = Instant::now();
         if self.clock == Clock::Real && !self.paused {
             if let Some(last) = self.last_step {
-                // A long stall (a window drag, a breakpoint) is not a jump.
-                self.time += now.duration_since(last).as_secs_f32().min(0.25);
+                let wall = now.duration_since(last).as_secs_f32();
+                self.slowed = wall > MAX_STEP_S;
+                self.time += wall.min(MAX_STEP_S);
             }
         }
         self.last_step = Some(now);

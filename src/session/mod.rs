@@ -95,6 +95,16 @@ pub struct ReloadReport {
     pub ms: f64,
 }
 
+impl ReloadReport {
+    /// "1 pass rebuilt", "3 passes rebuilt".
+    pub fn passes_rebuilt(&self) -> String {
+        match self.rebuilt.len() {
+            1 => "1 pass rebuilt".to_string(),
+            n => format!("{n} passes rebuilt"),
+        }
+    }
+}
+
 /// Frame counters behind the `frame` uniform.
 #[derive(Debug, Clone, Copy, Default)]
 struct FrameState {
@@ -392,10 +402,16 @@ impl Session {
     /// kept where their descriptors match, new bind groups); if that fails
     /// nothing changes. Accumulation restarts: the image changed.
     pub fn commit(&mut self, mut r: Rebuild) -> Result<ReloadReport, UserError> {
-        if let Some(s) = &mut r.scene {
+        if let (Some(s), false) = (&mut r.scene, matches!(r.kind, RebuildKind::OpenScene(_))) {
             // The camera as it is now (it may have moved while the rebuild ran).
             s.scene.camera = self.scene.scene.camera;
         }
+        // Shaders saved back to what is running (an edit reverted, a save
+        // of the same text) change nothing: the history stays.
+        let same_text = |a: &CompiledGraph, b: &CompiledGraph| {
+            a.shaders.len() == b.shaders.len() && a.shaders.iter().all(|(n, s)| b.shaders.get(n).is_some_and(|t| t.source.text == s.source.text))
+        };
+        let unchanged = matches!(r.kind, RebuildKind::Shaders(_)) && r.pipelines.built.is_empty() && same_text(&r.graph, &self.graph);
         let scene = r.scene.as_ref().unwrap_or(&self.scene);
         let frame_buffer = &self.frame_buffer;
         let executor = Executor::new(&self.gpu, &r.graph.schedule, &r.pipelines.per_pass, &|e| scene.binding(e, frame_buffer), self.size, Some(&self.executor))?;
@@ -413,7 +429,9 @@ impl Session {
         self.options = r.options;
         self.pipelines_built += report.rebuilt.len();
         self.generation += 1;
-        self.restart();
+        if !unchanged {
+            self.restart();
+        }
         Ok(report)
     }
 
@@ -457,6 +475,11 @@ impl Session {
     /// Reloads the scene file (and its meshes), keeping the camera.
     pub fn reload_scene(&mut self, path: &Path) -> Result<ReloadReport, UserError> {
         self.run_job(RebuildKind::Scene(path.to_path_buf()))
+    }
+
+    /// Replaces the scene with another file's, camera and all.
+    pub fn open_scene(&mut self, path: &Path) -> Result<ReloadReport, UserError> {
+        self.run_job(RebuildKind::OpenScene(path.to_path_buf()))
     }
 
     /// Switches a pass on or off, as `--skip` does (whatever then feeds

@@ -36,6 +36,8 @@ pub enum RebuildKind {
     SwitchGraph(PathBuf),
     /// The scene (or one of its meshes) changed; the camera is kept.
     Scene(PathBuf),
+    /// Another scene file replaces the running one, with its own camera.
+    OpenScene(PathBuf),
     /// Compile options changed (a pass enabled or disabled).
     Edits,
 }
@@ -46,7 +48,7 @@ impl RebuildKind {
         match self {
             RebuildKind::Shaders(_) => "shader",
             RebuildKind::Graph(_) | RebuildKind::SwitchGraph(_) | RebuildKind::Edits => "graph",
-            RebuildKind::Scene(_) => "scene",
+            RebuildKind::Scene(_) | RebuildKind::OpenScene(_) => "scene",
         }
     }
 }
@@ -179,9 +181,11 @@ impl RebuildJob {
                 }
                 (desc, shaders, path.clone())
             }
-            RebuildKind::Scene(path) => {
+            RebuildKind::Scene(path) | RebuildKind::OpenScene(path) => {
                 let mut loaded = crate::scene::load(path)?;
-                loaded.camera = camera;
+                if matches!(kind, RebuildKind::Scene(_)) {
+                    loaded.camera = camera;
+                }
                 scene = Some(SceneGpu::new(&gpu, loaded)?);
                 (current.desc.clone(), current.shaders.clone(), current.path.clone())
             }

@@ -1,6 +1,7 @@
 //! How a pass's params are shown and bounded: read from `// ui:` annotations on
 //! the members of the shader's `Params` struct (naga drops comments, so the
-//! source text is read). The convention, documented in the README:
+//! source text is read). The convention, documented in docs/viewer.md
+//! ("Params in the UI"):
 //!
 //! ```wgsl
 //! struct Params {

@@ -1,6 +1,5 @@
 //! Sweep files for `glint trade --sweep`: settings each graph is rendered
-//! with, one curve per graph and setting (README, "Speed against
-//! accuracy"):
+//! with, one curve per graph and setting (docs/trade.md, "Sweeps"):
 //!
 //! ```ron
 //! Sweep(settings: [

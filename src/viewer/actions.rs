@@ -17,7 +17,16 @@ pub fn apply(session: &mut Session, frames: &mut FrameLoop, profiles: &[Profile]
     match action {
         Action::SetParam { pass, name, value } => session.set_param(pass, name, value.clone()).map(|_| None),
         Action::SetEnabled { pass, enabled } => session.set_enabled(pass, *enabled).map(Some),
-        Action::SetGraph(path) => session.set_graph(path).map(Some),
+        Action::SetGraph(path) => {
+            // A graph picked by hand runs as `--graph` runs it: at the size
+            // asked for, without a profile's scale or frame-time target.
+            let report = session.set_graph(path)?;
+            frames.target = None;
+            if session.size != requested {
+                return session.resize(requested).map(Some);
+            }
+            Ok(Some(report))
+        }
         Action::SetProfile(i) => {
             let p = profiles.get(*i).ok_or_else(|| UserError::new(format!("no machine profile number {i}")))?;
             let report = session.switch_profile(&machines::profile_graph(p), machines::param_sets(p)?, machines::scale_size(requested, p.resolution_scale))?;

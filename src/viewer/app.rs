@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::ActiveEventLoop;
-use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::Window;
 
 use crate::error::UserError;
@@ -18,14 +18,20 @@ use crate::session::{Session, SessionOptions};
 use crate::stats::{ReuseShare, REFLECT_REUSE};
 use crate::viewer::actions;
 use crate::viewer::camera::{self, CameraControl};
+use crate::viewer::keys::{self, KeyCommand, Viewpoints};
 use crate::viewer::panels::{self, Action, PanelInput, PanelState};
 use crate::viewer::present::{Present, Rect};
+use crate::viewer::presents::Presents;
 use crate::viewer::reloader::Reloader;
 use crate::viewer::screenshot;
 use crate::viewer::ViewOptions;
 
 /// Width of the side panel in logical pixels.
 pub const PANEL_WIDTH: f32 = 340.0;
+
+/// The window's least height: the side panel's sections fit without
+/// scrolling (logical pixels).
+const MIN_WINDOW_HEIGHT: u32 = 760;
 
 /// Scene seconds per frame in a scripted run (`--frames`).
 pub const SCRIPTED_DT: f32 = 1.0 / 30.0;
@@ -34,7 +40,6 @@ pub const SCRIPTED_DT: f32 = 1.0 / 30.0;
 struct Mouse {
     left: bool,
     right: bool,
-    over_ui: bool,
     last: Option<(f64, f64)>,
 }
 
@@ -57,18 +62,25 @@ pub struct Viewer {
     last_reload: Option<String>,
     panel: PanelState,
     options: ViewOptions,
-    presented: u64,
-    /// When the last frames were presented (the longest gap during a
-    /// rebuild shows whether the window kept presenting).
-    present_times: std::collections::VecDeque<Instant>,
-    fps: f64,
+    /// When frames reached the screen: the FPS, the frame-time plot and
+    /// the gaps a rebuild left.
+    presents: Presents,
     last_frame: Instant,
+    modifiers: ModifiersState,
+    help: bool,
+    viewpoints: Viewpoints,
+    /// The scene file shown (viewpoints are kept per file).
+    scene_path: PathBuf,
+    /// Why a scripted run failed (an unwritable screenshot): the exit code.
+    pub failure: Option<UserError>,
     screenshot_requested: bool,
     /// A reload line printed once the first frame with the new state has
     /// been presented (what "save to new image" latency is measured to).
     announce: Option<String>,
     /// The viewport rectangle of the last frame (physical pixels).
     viewport: Rect,
+    /// The area beside the panel, in egui points, as the last frame laid it out.
+    central: egui::Rect,
     pub done: bool,
 }
 
@@ -83,7 +95,7 @@ impl Viewer {
         let (w, h) = options.size;
         let attrs = Window::default_attributes()
             .with_title(format!("glint: {}", options.scene.display()))
-            .with_inner_size(winit::dpi::LogicalSize::new(f64::from(w) + f64::from(PANEL_WIDTH), f64::from(h.max(480))));
+            .with_inner_size(winit::dpi::LogicalSize::new(f64::from(w) + f64::from(PANEL_WIDTH), f64::from(h.max(MIN_WINDOW_HEIGHT))));
         let window = Arc::new(event_loop.create_window(attrs).map_err(|e| UserError::new(format!("cannot open a window: {e}")))?);
         let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
         let instance = wgpu::Instance::new(descriptor);
@@ -91,6 +103,7 @@ impl Viewer {
             .create_surface(Arc::clone(&window))
             .map_err(|e| UserError::new(format!("cannot draw into the window: {e}")))?;
         let gpu = Gpu::for_surface(instance, &surface)?;
+        window.set_title(&format!("glint: {} ({})", options.scene.display(), gpu.info.name));
         let caps = surface.get_capabilities(&gpu.adapter);
         let format = pick_format(&caps).ok_or_else(|| UserError::new(format!("{} offers no 8-bit surface format for the window", gpu.describe())))?;
         let size = window.inner_size();
@@ -138,7 +151,9 @@ impl Viewer {
         );
         let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
         let present = Present::new(&gpu.device, format)?;
+        // A scripted run (--frames) renders and exits: nothing to watch.
         let reloader = match Reloader::start(&session) {
+            _ if options.frames.is_some() => None,
             Ok((r, dirs)) => {
                 let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
                 println!("watching {} for changes", shown.join(", "));
@@ -170,14 +185,18 @@ impl Viewer {
             overlay: None,
             last_reload: None,
             panel,
+            scene_path: options.scene.clone(),
             options,
-            presented: 0,
-            present_times: std::collections::VecDeque::new(),
-            fps: 0.0,
+            presents: Presents::default(),
             last_frame: Instant::now(),
+            modifiers: ModifiersState::empty(),
+            help: false,
+            viewpoints: Viewpoints::default(),
+            failure: None,
             screenshot_requested: false,
             announce: None,
             viewport: Rect { x: 0.0, y: 0.0, w: 0.0, h: 0.0 },
+            central: egui::Rect::NOTHING,
             done: false,
         })
     }
@@ -190,6 +209,7 @@ impl Viewer {
                 self.config.height = size.height.max(1);
                 self.surface.configure(&self.gpu.device, &self.config);
             }
+            WindowEvent::ModifiersChanged(m) => self.modifiers = m.state(),
             WindowEvent::KeyboardInput { event, .. } if !response.consumed => {
                 let down = event.state == ElementState::Pressed;
                 let PhysicalKey::Code(code) = event.physical_key else { return };
@@ -201,14 +221,18 @@ impl Viewer {
                     KeyCode::KeyD => keys.right = down,
                     KeyCode::KeyE => keys.up = down,
                     KeyCode::KeyQ => keys.down = down,
-                    KeyCode::KeyP if down && !event.repeat => self.frames.paused = !self.frames.paused,
-                    KeyCode::F12 if down && !event.repeat => self.screenshot_requested = true,
                     _ => {}
                 }
+                if down && !event.repeat {
+                    if let Some(c) = keys::command(code, event.text.as_deref(), self.modifiers.control_key()) {
+                        self.key_command(c);
+                    }
+                }
             }
+            WindowEvent::DroppedFile(path) => self.open_scene(path.clone()),
             WindowEvent::MouseInput { state, button, .. } => {
                 let down = *state == ElementState::Pressed;
-                if down && self.mouse.over_ui {
+                if down && self.pointer_over_ui() {
                     return;
                 }
                 match button {
@@ -230,7 +254,7 @@ impl Viewer {
                 }
                 self.mouse.last = Some((x, y));
             }
-            WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
+            WindowEvent::MouseWheel { delta, .. } if !self.pointer_over_ui() => {
                 let notches = match delta {
                     MouseScrollDelta::LineDelta(_, y) => *y,
                     MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
@@ -238,6 +262,65 @@ impl Viewer {
                 self.control.wheel(notches);
             }
             _ => {}
+        }
+    }
+
+    /// Whether a button pressed now is the panels' (or a window's or a
+    /// popup's over the image), from where the cursor is now. egui's own
+    /// answer is as of the last frame, whose pointer may have been outside
+    /// the window: with a slow frame, or no keyboard focus, a press that
+    /// arrived with its motion was taken for the panel's and the drag lost.
+    fn pointer_over_ui(&self) -> bool {
+        let Some((x, y)) = self.mouse.last else { return true };
+        let ppp = self.egui_ctx.pixels_per_point();
+        let pos = egui::pos2(x as f32 / ppp, y as f32 / ppp);
+        let over_layer = self.egui_ctx.layer_id_at(pos).is_some_and(|l| l.order != egui::Order::Background);
+        !self.central.contains(pos) || over_layer || self.egui_ctx.egui_is_using_pointer()
+    }
+
+    fn key_command(&mut self, c: KeyCommand) {
+        let camera = &mut self.session.scene.scene.camera;
+        match c {
+            KeyCommand::Quit => self.done = true,
+            KeyCommand::ToggleHelp => self.help = !self.help,
+            KeyCommand::ResetCamera => *camera = self.frames.base_camera,
+            KeyCommand::CopyCamera => {
+                let line = keys::camera_line(camera);
+                println!("{line}");
+                self.egui_ctx.copy_text(line);
+            }
+            KeyCommand::SaveView(n) => self.viewpoints.save(&self.scene_path, n, *camera),
+            KeyCommand::RecallView(n) => {
+                if let Some(c) = self.viewpoints.get(&self.scene_path, n) {
+                    *camera = c;
+                }
+            }
+            KeyCommand::Pause => self.frames.paused = !self.frames.paused,
+            KeyCommand::Screenshot => self.screenshot_requested = true,
+        }
+    }
+
+    /// Opens another scene file (dropped on the window): its camera, its
+    /// lights; the graph stays. A file that fails to load leaves the
+    /// running scene as it was, with the error in the overlay.
+    fn open_scene(&mut self, path: PathBuf) {
+        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ron")) {
+            let hint = "a scene is a .ron file; an OBJ mesh goes into one as an object (docs/scenes.md)";
+            self.show_error(format!("{}: not a scene file: {hint}", path.display()));
+            return;
+        }
+        match self.session.open_scene(&path) {
+            Ok(report) => {
+                self.frames.base_camera = self.session.scene.scene.camera;
+                self.control = CameraControl::for_camera(&self.frames.base_camera);
+                self.window.set_title(&format!("glint: {} ({})", path.display(), self.gpu.info.name));
+                self.scene_path = path;
+                self.overlay = None;
+                self.last_reload = Some(format!("opened {} ({} in {:.0} ms)", self.scene_path.display(), report.passes_rebuilt(), report.ms));
+                println!("opened {}", self.scene_path.display());
+                self.refresh_reloader();
+            }
+            Err(e) => self.show_error(format!("{e} (keeping the scene shown)")),
         }
     }
 
@@ -264,7 +347,7 @@ impl Viewer {
                     self.panel.active_profile = Some(i);
                 }
                 self.overlay = None;
-                self.last_reload = Some(format!("{} passes rebuilt in {:.0} ms", report.rebuilt.len(), report.ms));
+                self.last_reload = Some(format!("{} in {:.0} ms", report.passes_rebuilt(), report.ms));
                 self.refresh_reloader();
             }
             Ok(None) => {
@@ -291,13 +374,13 @@ impl Viewer {
         match finished.result.and_then(|r| self.session.commit(r)) {
             Ok(report) => {
                 let line = format!(
-                    "reloaded {}: {} passes rebuilt in {:.0} ms ({} frames presented meanwhile, longest gap between frames {:.0} ms, frame time {:.0} ms)",
+                    "reloaded {}: {} in {:.0} ms ({} frames presented meanwhile, longest gap between frames {:.0} ms, frame time {:.0} ms)",
                     finished.what,
-                    report.rebuilt.len(),
+                    report.passes_rebuilt(),
                     finished.started.elapsed().as_secs_f64() * 1e3,
                     finished.frames,
-                    self.longest_gap_since(finished.started),
-                    self.recent_frame_ms(finished.started)
+                    self.presents.longest_gap_since(finished.started, Instant::now()),
+                    self.presents.frame_ms_before(finished.started)
                 );
                 let line = crate::reload::relative_to_cwd(&line);
                 self.announce = Some(line.clone());
@@ -307,27 +390,6 @@ impl Viewer {
             Err(e) => self.show_error(format!("{e} (keeping the last good {})", finished.kind)),
         }
         self.refresh_reloader();
-    }
-
-    /// The longest time between two presented frames from `start` to now
-    /// (the gap from the last present to now included).
-    fn longest_gap_since(&self, start: Instant) -> f64 {
-        let now = Instant::now();
-        let mut last = start;
-        let mut gap = 0.0f64;
-        for &t in self.present_times.iter().filter(|&&t| t > start) {
-            gap = gap.max(t.duration_since(last).as_secs_f64());
-            last = t;
-        }
-        gap.max(now.duration_since(last).as_secs_f64()) * 1e3
-    }
-
-    /// The median time between presented frames before `before`.
-    fn recent_frame_ms(&self, before: Instant) -> f64 {
-        let times: Vec<&Instant> = self.present_times.iter().filter(|&&t| t <= before).collect();
-        let gaps: Vec<f64> = times.windows(2).map(|w| w[1].duration_since(*w[0]).as_secs_f64() * 1e3).collect();
-        let start = gaps.len().saturating_sub(30);
-        crate::metrics::median(&gaps[start..])
     }
 
     fn refresh_reloader(&self) {
@@ -341,7 +403,6 @@ impl Viewer {
         let now = Instant::now();
         let dt = now.duration_since(self.last_frame).as_secs_f32();
         self.last_frame = now;
-        self.fps = if dt > 0.0 { 0.9 * self.fps + 0.1 / f64::from(dt) } else { self.fps };
         self.poll_reload();
         self.control.fly(&mut self.session.scene.scene.camera, dt.min(0.25));
         self.frames.step(&mut self.session);
@@ -353,8 +414,16 @@ impl Viewer {
         let mut actions = Vec::new();
         let mut central = egui::Rect::NOTHING;
         let rebuilding = self.reloader.as_ref().and_then(Reloader::running);
-        let input = PanelInput { frames: &self.frames, fps: self.fps, rebuilding: rebuilding.as_deref(), last_reload: self.last_reload.as_deref() };
-        let (session, panel, overlay) = (&self.session, &mut self.panel, &self.overlay);
+        let frame_plot = self.presents.plot();
+        let input = PanelInput {
+            frames: &self.frames,
+            fps: self.presents.fps(Instant::now()),
+            frame_plot: &frame_plot,
+            fly_speed: self.control.speed,
+            rebuilding: rebuilding.as_deref(),
+            last_reload: self.last_reload.as_deref(),
+        };
+        let (session, panel, overlay, help) = (&self.session, &mut self.panel, &self.overlay, &mut self.help);
         let output = self.egui_ctx.run_ui(raw, |ui| {
             egui::Panel::left("panels").resizable(false).exact_size(PANEL_WIDTH).show(ui, |ui| {
                 actions = panels::draw(ui, session, &input, panel);
@@ -367,8 +436,9 @@ impl Viewer {
                     });
                 }
             });
+            panels::help(ui.ctx(), help);
         });
-        self.mouse.over_ui = self.egui_ctx.egui_wants_pointer_input();
+        self.central = central;
         self.egui_state.handle_platform_output(&self.window, output.platform_output);
         let kept_before = self.panel.resource.clone();
         for a in actions {
@@ -429,10 +499,10 @@ impl Viewer {
         for id in &output.textures_delta.free {
             self.egui_renderer.free_texture(id);
         }
-        self.presented += 1;
-        self.present_times.push_back(Instant::now());
-        if self.present_times.len() > 256 {
-            self.present_times.pop_front();
+        self.presents.push(Instant::now());
+        if self.options.frames.is_some() && self.presents.count() == 1 {
+            // A scripted run's first frame: what a test times the rest from.
+            println!("first frame presented");
         }
         if let Some(r) = &self.reloader {
             r.presented();
@@ -450,15 +520,22 @@ impl Viewer {
     }
 
     fn wants_screenshot(&self) -> bool {
-        self.screenshot_requested || self.options.frames.is_some_and(|n| self.presented + 1 >= u64::from(n))
+        self.screenshot_requested || self.options.frames.is_some_and(|n| self.presents.count() + 1 >= u64::from(n))
     }
 
     fn save_screenshot(&mut self, capture: Option<screenshot::Capture>) {
         self.screenshot_requested = false;
-        let last = self.options.frames.is_some_and(|n| self.presented >= u64::from(n));
+        let presented = self.presents.count();
+        let last = self.options.frames.is_some_and(|n| presented >= u64::from(n));
+        if last {
+            // What the panel showed at the end, for a test to check
+            // against the times it saw.
+            let fps = self.presents.fps(Instant::now()).unwrap_or(0.0);
+            println!("last frame presented: {presented} frames, {fps:.2} FPS shown, frame-time plot median {:.1} ms, last {:.1} ms", self.presents.median_ms(10), self.presents.last_ms().unwrap_or(0.0));
+        }
         let png = match (&self.options.screenshot, last) {
             (Some(p), true) => p.clone(),
-            _ => PathBuf::from(format!("glint-screenshot-{}.png", self.presented)),
+            _ => PathBuf::from(format!("glint-screenshot-{presented}.png")),
         };
         let result = match capture {
             Some(c) => screenshot::save(&self.gpu, c, self.config.format, &png, &self.session, self.viewport),
@@ -466,6 +543,7 @@ impl Viewer {
         };
         match result {
             Ok(line) => println!("{line}"),
+            Err(e) if last => self.failure = Some(e),
             Err(e) => self.show_error(e.to_string()),
         }
         if last {

@@ -6,8 +6,10 @@
 pub mod actions;
 mod app;
 pub mod camera;
+pub mod keys;
 pub mod panels;
 pub mod present;
+pub mod presents;
 mod reloader;
 mod screenshot;
 
@@ -62,11 +64,19 @@ impl ApplicationHandler for App {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::RedrawRequested => {
                 v.redraw();
+                if let Some(e) = v.failure.take() {
+                    self.result = Err(e);
+                }
                 if v.done {
                     event_loop.exit();
                 }
             }
-            other => v.on_event(&other),
+            other => {
+                v.on_event(&other);
+                if v.done {
+                    event_loop.exit();
+                }
+            }
         }
     }
 

@@ -12,6 +12,7 @@ use crate::graph::desc::ParamValue;
 use crate::graph::executor::Timing;
 use crate::graph::schedule::CullReason;
 use crate::machines::Profile;
+use crate::scene::Feature;
 use crate::session::frame_loop::FrameLoop;
 use crate::session::Session;
 use crate::shader::{ParamMember, ScalarType};
@@ -85,7 +86,12 @@ impl PanelState {
 /// Everything the panels show besides the session.
 pub struct PanelInput<'a> {
     pub frames: &'a FrameLoop,
-    pub fps: f64,
+    /// Frames per second over the recent presents (None before two).
+    pub fps: Option<f64>,
+    /// Milliseconds between presented frames, by frame index.
+    pub frame_plot: &'a [[f64; 2]],
+    /// The fly speed, scene units per second.
+    pub fly_speed: f32,
     pub rebuilding: Option<&'a str>,
     pub last_reload: Option<&'a str>,
 }
@@ -106,9 +112,21 @@ pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut Pane
 fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>, actions: &mut Vec<Action>) {
     let sched = &session.graph.schedule;
     ui.heading("glint");
-    ui.label(format!("{:.1} FPS, {}x{}, graph `{}`", input.fps, session.size.0, session.size.1, sched.name));
+    let fps = match input.fps {
+        Some(f) if f >= 10.0 => format!("{f:.0} FPS ({:.0} ms)", 1e3 / f),
+        Some(f) => format!("{f:.2} FPS ({:.0} ms)", 1e3 / f),
+        None => "FPS: after two frames".to_string(),
+    };
+    ui.label(format!("{fps}, {}x{}, graph `{}`", session.size.0, session.size.1, sched.name));
     ui.label(format!("frames accumulated: {}", session.accumulated()));
-    ui.label(format!("scene time {:.2} s{}", input.frames.time, if input.frames.paused { " (paused)" } else { "" }));
+    let time = if input.frames.paused {
+        " (paused)"
+    } else if input.frames.slowed {
+        " (slowed: a frame advances it at most 0.25 s)"
+    } else {
+        ""
+    };
+    ui.add(egui::Label::new(format!("scene time {:.2} s{time}", input.frames.time)).wrap());
     if sched.passes.iter().any(|p| p.name == "reflections") {
         ui.horizontal(|ui| {
             if ui.button("reflection reuse").on_hover_text("reads the reuse record back once (waits for the frame)").clicked() {
@@ -117,11 +135,13 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>
             ui.label(reuse.unwrap_or("not measured"));
         });
     }
-    if let Some(what) = input.rebuilding {
-        ui.label(RichText::new(format!("rebuilding {what}...")).color(Color32::YELLOW));
-    } else if let Some(r) = input.last_reload {
-        ui.label(RichText::new(r).weak());
-    }
+    // Always one line, so the widgets below do not move when it changes.
+    let status = match (input.rebuilding, input.last_reload) {
+        (Some(what), _) => RichText::new(format!("rebuilding {what}...")).color(Color32::YELLOW),
+        (None, Some(r)) => RichText::new(r).weak(),
+        (None, None) => RichText::new("no reload yet").weak(),
+    };
+    ui.add(egui::Label::new(status).truncate()).on_hover_text(input.last_reload.unwrap_or(""));
     ui.horizontal(|ui| {
         let paused = input.frames.paused;
         if ui.button(if paused { "resume (P)" } else { "pause (P)" }).clicked() {
@@ -137,7 +157,7 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>
             actions.push(Action::Profile(on));
         }
     }
-    ui.label(RichText::new("fly: WASD, Q/E, right-drag looks, wheel = speed; orbit: left-drag").weak());
+    ui.add(egui::Label::new(RichText::new(format!("fly {:.3} units/s: WASD, Q/E, wheel = speed; right-drag looks, left-drag orbits; F1: every key", input.fly_speed)).weak()).wrap());
 }
 
 fn graphs(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut Vec<Action>) {
@@ -185,7 +205,7 @@ fn schedule(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Ve
                     }
                     (false, Some(c)) => {
                         let why = match &c.reason {
-                            CullReason::Requires(f) => format!("culled: the scene has no {f:?}"),
+                            CullReason::Requires(fs) => cull_reason(fs),
                             CullReason::Unreachable => "culled: feeds nothing".to_string(),
                         };
                         ui.label(RichText::new(format!("{name}: {why}")).color(Color32::GRAY));
@@ -239,6 +259,17 @@ fn params(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut 
     });
 }
 
+/// Why a pass that needs `features` was culled. The probe modes are the
+/// graph's (`probes.mode`), not the scene's.
+fn cull_reason(features: &[Feature]) -> String {
+    let (probes, scene): (Vec<&Feature>, Vec<&Feature>) = features.iter().partition(|f| matches!(f, Feature::ThesisProbes | Feature::DdgiProbes));
+    match (probes.first(), scene.is_empty()) {
+        (Some(Feature::ThesisProbes), true) => "culled: the graph's probes mode is not Thesis".into(),
+        (Some(_), true) => "culled: the graph's probes mode is not Ddgi".into(),
+        _ => format!("culled: the scene has no {scene:?}"),
+    }
+}
+
 /// One widget for a param member; the new value when the user changed it.
 fn param_widget(ui: &mut Ui, m: &ParamMember, value: &ParamValue, hint: Option<&Hint>) -> Option<ParamValue> {
     let label = hint.and_then(|h| h.label.clone()).unwrap_or_else(|| m.name.clone());
@@ -250,13 +281,20 @@ fn param_widget(ui: &mut Ui, m: &ParamMember, value: &ParamValue, hint: Option<&
     };
     let int = m.scalar != ScalarType::F32;
     let mut out = None;
-    ui.horizontal(|ui| {
+    let wrapped = |ui: &mut Ui| ui.add(egui::Label::new(label.as_str()).wrap());
+    let own_label = (m.components == 1 && hint.is_some_and(|h| h.checkbox)) || (m.components == 3 && hint.is_some_and(|h| h.color));
+    if !own_label {
+        // Above its widgets, wrapped: a long label beside a slider was
+        // clipped at the panel's edge.
+        wrapped(ui);
+    }
+    ui.horizontal_wrapped(|ui| {
         if m.components == 3 && hint.is_some_and(|h| h.color) {
             let mut rgb = [scalars[0] as f32, scalars[1] as f32, scalars[2] as f32];
             if ui.color_edit_button_rgb(&mut rgb).changed() {
                 out = Some(ParamValue::Vector(rgb.iter().map(|&c| f64::from(c)).collect()));
             }
-            ui.label(&label);
+            wrapped(ui);
             return;
         }
         if m.components == 1 && hint.is_some_and(|h| h.checkbox) {
@@ -275,7 +313,6 @@ fn param_widget(ui: &mut Ui, m: &ParamMember, value: &ParamValue, hint: Option<&
             };
             changed |= r.changed();
         }
-        ui.label(&label);
         if changed {
             out = Some(match (v.len(), int) {
                 (1, true) => ParamValue::Int(v[0].round() as i64),
@@ -326,19 +363,32 @@ fn resources(ui: &mut Ui, session: &Session, state: &mut PanelState) {
 
 fn frame_time(ui: &mut Ui, input: &PanelInput) {
     egui::CollapsingHeader::new("frame time").default_open(true).show(ui, |ui| {
-        let stats = &input.frames.stats;
-        let tail = |v: &[f64]| -> Vec<[f64; 2]> {
-            let start = v.len().saturating_sub(300);
-            v[start..].iter().enumerate().map(|(i, y)| [(start + i) as f64, *y]).collect()
-        };
-        let ms = tail(&stats.frame_ms);
-        let thresholds: Vec<f64> = stats.thresholds.iter().map(|t| f64::from(*t)).collect();
-        let th = tail(&thresholds);
-        egui_plot::Plot::new("frame_ms").height(110.0).include_y(0.0).allow_zoom(false).allow_drag(false).allow_scroll(false).show(ui, |p| {
-            p.line(egui_plot::Line::new("frame ms", ms));
+        let width = ui.available_width();
+        ui.label("milliseconds between presented frames");
+        egui_plot::Plot::new("frame_ms").width(width).height(110.0).include_y(0.0).allow_zoom(false).allow_drag(false).allow_scroll(false).show(ui, |p| {
+            p.line(egui_plot::Line::new("frame ms", input.frame_plot.to_vec()));
         });
-        egui_plot::Plot::new("threshold").height(80.0).include_y(0.0).include_y(1.0).allow_zoom(false).allow_drag(false).allow_scroll(false).show(ui, |p| {
-            p.line(egui_plot::Line::new("mask threshold (PID)", th));
+        if input.frames.target.is_some() {
+            let thresholds = &input.frames.stats.thresholds;
+            let start = thresholds.len().saturating_sub(300);
+            let th: Vec<[f64; 2]> = thresholds[start..].iter().enumerate().map(|(i, t)| [(start + i) as f64, f64::from(*t)]).collect();
+            ui.add(egui::Label::new("noise-mask threshold (0-1) the PID sets for the frame-time target: pixels noisier than it are refined").wrap());
+            egui_plot::Plot::new("threshold").width(width).height(80.0).include_y(0.0).include_y(1.0).allow_zoom(false).allow_drag(false).allow_scroll(false).show(ui, |p| {
+                p.line(egui_plot::Line::new("mask threshold", th));
+            });
+        }
+    });
+}
+
+/// The help overlay (F1 or `?`): every key and mouse binding.
+pub fn help(ctx: &egui::Context, open: &mut bool) {
+    egui::Window::new("keys and mouse (F1 or ? closes)").open(open).collapsible(false).resizable(false).show(ctx, |ui| {
+        egui::Grid::new("bindings").striped(true).show(ui, |ui| {
+            for (key, what) in crate::viewer::keys::BINDINGS {
+                ui.label(RichText::new(*key).monospace());
+                ui.label(*what);
+                ui.end_row();
+            }
         });
     });
 }

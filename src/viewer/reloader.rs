@@ -43,7 +43,7 @@ pub struct Reloader {
 fn describe(kind: &RebuildKind) -> String {
     match kind {
         RebuildKind::Shaders(f) => f.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
-        RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) | RebuildKind::Scene(p) => p.display().to_string(),
+        RebuildKind::Graph(p) | RebuildKind::SwitchGraph(p) | RebuildKind::Scene(p) | RebuildKind::OpenScene(p) => p.display().to_string(),
         RebuildKind::Edits => "graph edits".into(),
     }
 }
