@@ -171,7 +171,7 @@ pub(super) fn render_frames(args: &RenderArgs, session: &mut Session, frames: &m
     frames.finish(session);
     bar.finish_and_clear();
     let mut image = session.read_output()?;
-    if (image.width, image.height) != args.size {
+    if upscaled(session, args.size) {
         // A machine profile's resolution scale: upscale to the size asked for.
         image = image_io::resize_bilinear(&image, args.size.0, args.size.1);
     }
@@ -179,6 +179,13 @@ pub(super) fn render_frames(args: &RenderArgs, session: &mut Session, frames: &m
         image_io::save(&image, out)?;
     }
     Ok(())
+}
+
+/// Whether the output is a render at a machine profile's scale, written
+/// upscaled to the size asked for (an output of its own fixed size is
+/// written as it is).
+fn upscaled(session: &Session, asked: (u32, u32)) -> bool {
+    session.size != asked && session.executor.output_size() == session.size
 }
 
 /// Renders; `--watch` then goes on in `watch_cmd`, with what this returns.
@@ -213,9 +220,8 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     let passes = if medians.is_empty() { format!("per pass: {how}") } else { format!("sum of pass medians {pass_total:.2} ms ({how})") };
     // The file's size; a machine profile's scale renders smaller and
     // upscales, which is said too.
-    let (w, h) = args.size;
     let (rw, rh) = session.executor.output_size();
-    let rendered = if (rw, rh) == (w, h) { String::new() } else { format!(", rendered at {rw}x{rh}") };
+    let ((w, h), rendered) = if upscaled(session, args.size) { (args.size, format!(", rendered at {rw}x{rh}")) } else { ((rw, rh), String::new()) };
     out!(
         "wrote {} ({w}x{h}{rendered}); {} frames in {seconds:.2} s; median {:.2} ms/frame wall; {passes}",
         outs.join(", "),
