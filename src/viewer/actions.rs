@@ -19,12 +19,10 @@ pub fn apply(session: &mut Session, frames: &mut FrameLoop, profiles: &[Profile]
         Action::SetEnabled { pass, enabled } => session.set_enabled(pass, *enabled).map(Some),
         Action::SetGraph(path) => {
             // A graph picked by hand runs as `--graph` runs it: at the size
-            // asked for, without a profile's scale or frame-time target.
-            let report = session.set_graph(path)?;
+            // asked for, without a profile's scale, params or frame-time
+            // target; graph and size in one rebuild, all of it or nothing.
+            let report = session.switch_profile(path, Vec::new(), requested)?;
             frames.target = None;
-            if session.size != requested {
-                return session.resize(requested).map(Some);
-            }
             Ok(Some(report))
         }
         Action::SetProfile(i) => {

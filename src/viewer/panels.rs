@@ -89,7 +89,7 @@ pub struct PanelInput<'a> {
     /// Frames per second over the recent presents (None before two).
     pub fps: Option<f64>,
     /// Milliseconds between presented frames, by frame index.
-    pub frame_plot: &'a [[f64; 2]],
+    pub frame_plot: &'a [egui_plot::PlotPoint],
     /// The fly speed, scene units per second.
     pub fly_speed: f32,
     pub rebuilding: Option<&'a str>,
@@ -366,7 +366,7 @@ fn frame_time(ui: &mut Ui, input: &PanelInput) {
         let width = ui.available_width();
         ui.label("milliseconds between presented frames");
         egui_plot::Plot::new("frame_ms").width(width).height(110.0).include_y(0.0).allow_zoom(false).allow_drag(false).allow_scroll(false).show(ui, |p| {
-            p.line(egui_plot::Line::new("frame ms", input.frame_plot.to_vec()));
+            p.line(egui_plot::Line::new("frame ms", egui_plot::PlotPoints::Borrowed(input.frame_plot)));
         });
         if input.frames.target.is_some() {
             let thresholds = &input.frames.stats.thresholds;

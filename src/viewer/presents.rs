@@ -74,8 +74,8 @@ impl Presents {
     }
 
     /// The plot's points: (frame index, milliseconds since the frame before).
-    pub fn plot(&self) -> Vec<[f64; 2]> {
-        self.intervals.iter().map(|&(i, ms)| [i as f64, ms]).collect()
+    pub fn plot(&self) -> Vec<egui_plot::PlotPoint> {
+        self.intervals.iter().map(|&(i, ms)| egui_plot::PlotPoint::new(i as f64, ms)).collect()
     }
 
     /// The last interval in milliseconds.
@@ -157,7 +157,7 @@ mod tests {
         assert_eq!(p.median_ms(10), 50.0);
         let plot = p.plot();
         assert_eq!(plot.len(), 99);
-        assert_eq!(plot[0], [1.0, 50.0]);
+        assert_eq!((plot[0].x, plot[0].y), (1.0, 50.0));
     }
 
     #[test]
