@@ -10,10 +10,14 @@ use serde::Deserialize;
 use crate::error::{ron_error, UserError};
 use crate::scene::Camera;
 
+/// How the camera moves over scene time.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CameraPath {
     /// Orbit the target about +y at `deg_per_s`, keeping distance and height.
-    Orbit { deg_per_s: f32 },
+    Orbit {
+        /// Degrees per second; positive turns counter-clockwise seen from above.
+        deg_per_s: f32,
+    },
     /// Linear interpolation between keyframes (clamped at the ends).
     Keys(Vec<Key>),
 }
@@ -22,9 +26,11 @@ pub enum CameraPath {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Key {
+    /// Scene time of the key, seconds.
     pub time_s: f32,
     /// f64, as scene positions are (a path may run far from the origin).
     pub position: (f64, f64, f64),
+    /// The point looked at (f64, as `position`).
     pub target: (f64, f64, f64),
 }
 

@@ -8,15 +8,20 @@ use std::path::{Path, PathBuf};
 /// A position in a user's file. `line` and `col` are 1-based; 0 means unknown.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Location {
+    /// The file, as the user named it.
     pub file: PathBuf,
+    /// 1-based line; 0 if unknown.
     pub line: usize,
+    /// 1-based column; 0 if unknown.
     pub col: usize,
 }
 
 impl Location {
+    /// The file alone, line and column unknown.
     pub fn file(file: impl Into<PathBuf>) -> Self {
         Location { file: file.into(), line: 0, col: 0 }
     }
+    /// A line and column (1-based; 0 for unknown) in `file`.
     pub fn at(file: impl Into<PathBuf>, line: usize, col: usize) -> Self {
         Location { file: file.into(), line, col }
     }
@@ -38,17 +43,22 @@ impl fmt::Display for Location {
 /// An error caused by user input. `Display` gives `file:line:col: message`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct UserError {
+    /// Where the problem is, when it is in a file.
     pub location: Option<Location>,
+    /// What is wrong and what to do about it.
     pub message: String,
 }
 
 impl UserError {
+    /// An error with no location (a command-line value, say).
     pub fn new(message: impl Into<String>) -> Self {
         UserError { location: None, message: message.into() }
     }
+    /// An error at `location`.
     pub fn at(location: Location, message: impl Into<String>) -> Self {
         UserError { location: Some(location), message: message.into() }
     }
+    /// An error in `file`, line unknown.
     pub fn in_file(file: &Path, message: impl Into<String>) -> Self {
         UserError::at(Location::file(file), message)
     }
@@ -65,9 +75,6 @@ impl fmt::Display for UserError {
 
 impl std::error::Error for UserError {}
 
-/// The 1-based line of the first occurrence of `needle` in `text`, if any.
-/// RON gives positions only for syntax errors; semantic errors (an unknown
-/// material, a bad radius) find their line by looking for the offending text.
 /// `text` with every `//` comment replaced by spaces (string contents kept,
 /// so byte offsets and lines are unchanged): what a locator searches.
 pub fn blank_comments(text: &str) -> String {
@@ -97,6 +104,9 @@ pub fn blank_comments(text: &str) -> String {
     out
 }
 
+/// The 1-based line of the first occurrence of `needle` in `text`, if any.
+/// RON gives positions only for syntax errors; semantic errors (an unknown
+/// material, a bad radius) find their line by looking for the offending text.
 pub fn line_of(text: &str, needle: &str) -> Option<usize> {
     text.find(needle).map(|at| text[..at].matches('\n').count() + 1)
 }

@@ -6,17 +6,26 @@ use serde::Deserialize;
 /// Texture formats a graph may declare: the storage-capable WGSL formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize)]
 pub enum TexFormat {
+    /// One 32-bit float channel.
     R32Float,
+    /// Two 32-bit float channels.
     Rg32Float,
+    /// Four 32-bit float channels.
     Rgba32Float,
+    /// Four 16-bit float channels.
     Rgba16Float,
+    /// One 32-bit unsigned integer channel.
     R32Uint,
+    /// Two 32-bit unsigned integer channels.
     Rg32Uint,
+    /// Four 32-bit unsigned integer channels.
     Rgba32Uint,
+    /// Four 8-bit unsigned normalised channels.
     Rgba8Unorm,
 }
 
 impl TexFormat {
+    /// Bytes one texel takes.
     pub fn bytes_per_pixel(self) -> u64 {
         match self {
             TexFormat::R32Float | TexFormat::R32Uint | TexFormat::Rgba8Unorm => 4,

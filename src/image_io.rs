@@ -6,11 +6,14 @@ use std::path::Path;
 use crate::error::UserError;
 use crate::gpu::readback::ImageF32;
 
+/// The sRGB encoding of a linear value, clamped to [0, 1] first (NaN and
+/// infinities give 0).
 pub fn linear_to_srgb(x: f32) -> f32 {
     let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
     if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 }
 }
 
+/// The linear value of an sRGB-encoded one in [0, 1].
 pub fn srgb_to_linear(x: f32) -> f32 {
     if x <= 0.040_45 { x / 12.92 } else { ((x + 0.055) / 1.055).powf(2.4) }
 }
@@ -23,7 +26,6 @@ pub fn to_srgb8(img: &ImageF32) -> Vec<u8> {
         .collect()
 }
 
-/// Writes a PFM (linear RGB f32, bottom row first, little-endian).
 /// Resamples to `w`x`h` with bilinear filtering over texel centres (a
 /// machine profile's lower render resolution, shown at the size asked for).
 pub fn resize_bilinear(img: &ImageF32, w: u32, h: u32) -> ImageF32 {
@@ -54,6 +56,7 @@ pub fn resize_bilinear(img: &ImageF32, w: u32, h: u32) -> ImageF32 {
     out
 }
 
+/// Writes a PFM (linear RGB f32, bottom row first, little-endian).
 fn save_pfm(img: &ImageF32, path: &Path) -> std::io::Result<()> {
     write_pfm(img, path, 3)
 }

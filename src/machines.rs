@@ -13,16 +13,23 @@ use crate::gpu::Gpu;
 use crate::graph::desc::ParamValue;
 use crate::graph::edit::ParamSet;
 
+/// An adapter's kind, as a profile matches it (`wgpu::DeviceType` in RON).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 pub enum DeviceType {
+    /// A software rasteriser (lavapipe, llvmpipe).
     Cpu,
+    /// A GPU sharing memory with the CPU.
     IntegratedGpu,
+    /// A GPU with its own memory.
     DiscreteGpu,
+    /// A virtualised GPU.
     VirtualGpu,
+    /// Anything else.
     Other,
 }
 
 impl DeviceType {
+    /// The profile kind of a wgpu device type.
     pub fn of(t: wgpu::DeviceType) -> DeviceType {
         match t {
             wgpu::DeviceType::Cpu => DeviceType::Cpu,
@@ -34,17 +41,22 @@ impl DeviceType {
     }
 }
 
+/// One machine profile: which adapters it matches and what they run.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Profile {
+    /// Shown in messages and the viewer's profile list.
     pub name: String,
+    /// Matches only adapters of this kind (any when omitted).
     pub device_type: Option<DeviceType>,
+    /// Matches only adapters whose name contains this, ignoring case (any when omitted).
     pub name_contains: Option<String>,
     /// Graph file, relative to the profiles file.
     pub graph: String,
     /// The render size is the requested size times this (the viewer and
     /// `render` upscale the result to the requested size).
     pub resolution_scale: f32,
+    /// Frame-time target in milliseconds, which the PID steers toward.
     pub target_ms: f32,
     /// Param overrides, `"pass.param": value`, applied as `--set` would
     /// (a `--set` on the command line wins).
@@ -55,14 +67,18 @@ pub struct Profile {
     pub dir: PathBuf,
 }
 
+/// A profiles file: the profiles in order, first match wins.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Machines {
+    /// Tried in order.
     pub profiles: Vec<Profile>,
+    /// Taken when no profile matches.
     pub default: Profile,
 }
 
 impl Machines {
+    /// Load and check a profiles file (scales in (0, 4], positive targets, `pass.param` keys).
     pub fn load(path: &Path) -> Result<Machines, UserError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| UserError::in_file(path, format!("cannot read machine profiles: {e}")))?;
@@ -147,10 +163,15 @@ pub fn scale_size(size: (u32, u32), scale: f32) -> (u32, u32) {
 /// resolution scale; plus the graphs and profiles a viewer may offer.
 #[derive(Debug, Clone)]
 pub struct Choice {
+    /// The graph file to run.
     pub graph: PathBuf,
+    /// Frame-time target in milliseconds (None with `--graph`).
     pub target_ms: Option<f64>,
+    /// Param overrides from the profile, as `--set`s.
     pub params: Vec<ParamSet>,
+    /// The render size is the requested size times this (1 with `--graph`).
     pub resolution_scale: f32,
+    /// Every profile, the default last.
     pub profiles: Vec<Profile>,
     /// The profile the adapter matched (index into `profiles`), if any.
     pub matched: Option<usize>,
@@ -159,6 +180,7 @@ pub struct Choice {
 }
 
 impl Choice {
+    /// `size` at the resolution scale, at least 1x1.
     pub fn scaled(&self, size: (u32, u32)) -> (u32, u32) {
         scale_size(size, self.resolution_scale)
     }

@@ -6,7 +6,9 @@
 /// A running mean and the rounding error carried to its next update.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Mean {
+    /// The mean so far, RGB.
     pub value: [f32; 3],
+    /// Kahan compensation: the rounding error the next update takes back.
     pub comp: [f32; 3],
 }
 

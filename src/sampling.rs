@@ -3,6 +3,7 @@
 
 use glam::{DVec3, Mat3, Vec2, Vec3};
 
+/// π in f32.
 pub const PI: f32 = std::f32::consts::PI;
 
 /// An orthonormal basis with `n` as its third column (Duff et al. 2017).
@@ -101,6 +102,7 @@ pub fn pcg_hash(v: u32) -> u32 {
 /// A random stream, as `Rng` in rng.wgsl.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rng {
+    /// The PCG state.
     pub state: u32,
 }
 
@@ -115,6 +117,7 @@ impl Rng {
         Rng { state: h }
     }
 
+    /// The next 32 random bits (PCG, as `rand_u32`).
     pub fn next_u32(&mut self) -> u32 {
         self.state = self.state.wrapping_mul(747796405).wrapping_add(2891336453);
         let s = self.state;

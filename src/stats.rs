@@ -9,11 +9,14 @@ pub const REFLECT_REUSE: &str = "reflect_reuse";
 /// Reflection rays served from screen space, of all specular pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReuseShare {
+    /// Pixels served from screen space.
     pub reused: usize,
+    /// Specular pixels.
     pub specular: usize,
 }
 
 impl ReuseShare {
+    /// Counts the pixels of a `reflect_reuse` image (its red channel).
     pub fn of(img: &ImageF32) -> ReuseShare {
         let specular = img.data.iter().filter(|p| p[0] >= 0.0).count();
         let reused = img.data.iter().filter(|p| p[0] == 1.0).count();

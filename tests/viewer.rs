@@ -3,6 +3,7 @@
 //! window shows what `glint render` renders for the same frames.
 
 mod common;
+mod xdnd;
 
 use std::path::Path;
 use std::process::Command;
@@ -240,4 +241,44 @@ fn a_screenshot_that_cannot_be_written_fails_the_run() {
     assert_eq!(out.status.code(), Some(2), "exit code; stderr: {stderr}");
     assert!(stderr.contains("nonexistent-folder"), "{stderr}");
     assert!(!String::from_utf8_lossy(&out.stdout).contains("watching"), "a scripted run watches nothing");
+}
+
+/// Not a test of its own: `a_dropped_scene_file_opens` runs the test binary
+/// again with this one alone, under its Xvfb, as the drag-and-drop source.
+#[test]
+#[ignore = "run by a_dropped_scene_file_opens"]
+fn drop_source() {
+    let (Ok(window), Ok(file)) = (std::env::var("GLINT_DROP_WINDOW"), std::env::var("GLINT_DROP_FILE")) else { return };
+    let window: u32 = window.trim().parse().expect("a window id");
+    // Over the image, right of the 340-point panel.
+    xdnd::drop_file(window, 400, 60, Path::new(&file)).unwrap_or_else(|e| panic!("drop: {e}"));
+    println!("dropped {file}");
+}
+
+#[test]
+fn a_dropped_scene_file_opens() {
+    let dropped = repo().join("scenes/cornell-point.ron");
+    let script = format!(
+        r#"
+        "$GLINT" view scenes/cornell.ron --graph passes/hybrid.ron --size 160x120 &
+        pid=$!
+        for i in $(seq 120); do wid=$(xdotool search --name "glint:" 2>/dev/null | head -1); [ -n "$wid" ] && break; sleep 0.5; done
+        sleep 3
+        GLINT_DROP_WINDOW="$wid" GLINT_DROP_FILE="{}" "{}" --exact drop_source --ignored --nocapture --test-threads 1
+        sleep 3
+        echo "title: $(xdotool getwindowname "$wid")"
+        xdotool windowfocus "$wid"; sleep 0.3
+        xdotool key Escape
+        wait $pid
+        echo "exit $?"
+    "#,
+        dropped.display(),
+        std::env::current_exe().expect("the test binary").display()
+    );
+    let Some(out) = under_xvfb(&script) else { return };
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains(&format!("dropped {}", dropped.display())), "the drop went through: {stdout}\n{stderr}");
+    assert!(stdout.lines().any(|l| l.starts_with("opened ") && l.ends_with("cornell-point.ron")), "the viewer opened the dropped scene: {stdout}\n{stderr}");
+    assert!(stdout.lines().any(|l| l.starts_with("title: glint: ") && l.contains("cornell-point.ron")), "the title names it: {stdout}");
+    assert!(stdout.lines().any(|l| l == "exit 0"), "Esc quits with exit 0: {stdout}");
 }

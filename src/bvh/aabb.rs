@@ -2,9 +2,12 @@
 
 use glam::Vec3;
 
+/// An axis-aligned box; empty when `min` exceeds `max` on some axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {
+    /// Minimum corner.
     pub min: Vec3,
+    /// Maximum corner.
     pub max: Vec3,
 }
 
@@ -15,8 +18,11 @@ impl Default for Aabb {
 }
 
 impl Aabb {
+    /// The empty box (min +inf, max -inf): growing it by a point gives that
+    /// point's box.
     pub const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
 
+    /// The smallest box holding `points` (empty for none).
     pub fn of_points(points: &[Vec3]) -> Aabb {
         let mut b = Aabb::EMPTY;
         for p in points {
@@ -25,18 +31,21 @@ impl Aabb {
         b
     }
 
+    /// Extends the box to hold `p`.
     #[inline]
     pub fn grow(&mut self, p: Vec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
 
+    /// Extends the box to hold `o`.
     #[inline]
     pub fn union(&mut self, o: &Aabb) {
         self.min = self.min.min(o.min);
         self.max = self.max.max(o.max);
     }
 
+    /// Whether the box holds no point.
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
     }
@@ -51,6 +60,7 @@ impl Aabb {
         d.x * d.y + d.y * d.z + d.z * d.x
     }
 
+    /// The midpoint of the corners.
     pub fn center(&self) -> Vec3 {
         0.5 * (self.min + self.max)
     }

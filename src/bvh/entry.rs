@@ -36,7 +36,9 @@ pub const MAX_CAMERA_ENTRIES: usize = 32;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CameraEntriesGpu {
+    /// The entry count in `count[0]`; the rest zero.
     pub count: [u32; 4],
+    /// Per entry, its two texels; the first `count[0]` are used.
     pub entries: [[[u32; 4]; 2]; MAX_CAMERA_ENTRIES],
 }
 

@@ -24,8 +24,11 @@ pub const SPHERE_BIT: u32 = 0x8000_0000;
 /// A ray with what the watertight test precomputes (Woop et al. 2013).
 #[derive(Debug, Clone, Copy)]
 pub struct Ray {
+    /// Origin.
     pub o: Vec3,
+    /// Direction (need not be unit: `t` is in units of its length).
     pub d: Vec3,
+    /// `safe_inverse(d)`, for the slab test.
     pub inv: Vec3,
     k: [usize; 3],
     s: Vec3,
@@ -41,6 +44,7 @@ pub fn safe_inverse(d: Vec3) -> Vec3 {
 }
 
 impl Ray {
+    /// A ray from `o` along `d`, with the watertight test's shear precomputed.
     pub fn new(o: Vec3, d: Vec3) -> Ray {
         let a = d.abs();
         let kz = if a.x > a.y { if a.x > a.z { 0 } else { 2 } } else if a.y > a.z { 1 } else { 2 };
@@ -170,14 +174,20 @@ fn smaller(a: f32, b: f32) -> f32 {
 
 /// Read-only view of the scene geometry, as on the GPU.
 pub struct Geometry<'a> {
+    /// Spheres, as `SceneData::spheres`.
     pub spheres: &'a [SphereGpu],
+    /// Triangles in BLAS leaf order, as `SceneData::triangles`.
     pub triangles: &'a [TriangleGpu],
+    /// The TLAS then the BLASes (`SceneData::bvh`).
     pub nodes: &'a [BvhNode],
+    /// The TLAS instances (`SceneData::instances`).
     pub instances: &'a [InstanceGpu],
 }
 
+/// The closest hit of a ray.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
+    /// Distance along the ray, in units of the direction's length.
     pub t: f32,
     /// Triangle index, or sphere index | SPHERE_BIT.
     pub prim: u32,

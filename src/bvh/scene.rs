@@ -15,22 +15,29 @@ use glam::Vec3;
 use super::{build_with_depth, refit, Aabb, Bvh, BvhBuilder, BvhNode, BLAS_MAX_DEPTH, TLAS_MAX_DEPTH};
 use crate::scene::{SceneData, TriangleGpu, TriangleNormalsGpu};
 
+/// Flag in a TLAS node's `count`: a TLAS leaf (its primitives index `instances`).
 pub const TLAS_LEAF: u32 = 0x8000_0000;
+/// `InstanceGpu::kind` of a sphere.
 pub const INSTANCE_SPHERE: u32 = 0;
+/// `InstanceGpu::kind` of a mesh (its BLAS).
 pub const INSTANCE_MESH: u32 = 1;
 
 /// `struct Instance` in shaders/shared/bvh.wgsl (16 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct InstanceGpu {
+    /// `INSTANCE_SPHERE` or `INSTANCE_MESH`.
     pub kind: u32,
     /// Sphere index, or the node index of the mesh's BLAS root.
     pub index: u32,
+    /// Padding; zero.
     pub _pad: [u32; 2],
 }
 
+/// What one `SceneBvh::update` built and how long it took.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct BuildStats {
+    /// Triangles in the scene.
     pub triangles: usize,
     /// Triangles in BLASes built (not reused or refitted) this update.
     pub built_triangles: usize,
@@ -38,6 +45,7 @@ pub struct BuildStats {
     pub build_ms: f64,
     /// The whole BLAS stage: bounds, builds, refits, reordering.
     pub blas_ms: f64,
+    /// Time building the TLAS, in milliseconds.
     pub tlas_ms: f64,
 }
 
@@ -55,6 +63,7 @@ struct CachedBlas {
     bvh: Bvh,
 }
 
+/// The scene's two-level BVH, with the BLASes cached between updates.
 #[derive(Default)]
 pub struct SceneBvh {
     cache: Vec<Option<CachedBlas>>,

@@ -76,6 +76,7 @@ pub const EXPAND_MIN_HITS: usize = 3;
 /// through the origin.
 #[derive(Debug, Clone)]
 pub struct TileFrustum {
+    /// The camera position all the rays start from.
     pub origin: Vec3,
     /// Rays through the centres of an EXPAND_GRID x EXPAND_GRID grid of
     /// the tile's pixels (`worth_expanding`), made once per tile, not
@@ -187,13 +188,19 @@ pub fn tile_cut(nodes: &[BvhNode], root: u32, frustum: &TileFrustum) -> Option<V
 /// maps a pixel to its ray.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PixelCamera {
+    /// The camera position.
     pub origin: Vec3,
+    /// Unit view direction.
     pub forward: Vec3,
+    /// Unit right vector.
     pub right: Vec3,
+    /// Unit up vector, orthogonal to `forward` and `right`.
     pub up: Vec3,
+    /// tan(vertical field of view / 2).
     pub tan_half_fov: f32,
     /// width / height
     pub aspect: f32,
+    /// The image size in pixels (width, height).
     pub size: (u32, u32),
 }
 
@@ -221,8 +228,11 @@ impl PixelCamera {
 /// misses the BLAS has none.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TileTable {
+    /// The tile side, log2 of pixels.
     pub log2: u32,
+    /// Tiles per row.
     pub tiles_x: u32,
+    /// The table's texels, as uploaded.
     pub texels: Vec<[u32; 4]>,
 }
 

@@ -28,6 +28,13 @@ pub struct ViewArgs {
     /// it as a linear EXR).
     #[arg(long, requires = "frames")]
     pub screenshot: Option<PathBuf>,
+    /// The folder F12 writes screenshots into (default: the working folder).
+    #[arg(long)]
+    pub screenshot_dir: Option<PathBuf>,
+    /// Stop rendering a still image once it has accumulated this many
+    /// frames (the panel shows the progress; moving the camera goes on).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub stop_at: Option<u32>,
 }
 
 pub fn run(args: ViewArgs) -> Result<(), UserError> {
@@ -36,7 +43,21 @@ pub fn run(args: ViewArgs) -> Result<(), UserError> {
             return Err(UserError::in_file(p, "the screenshot must end in .png"));
         }
     }
-    viewer::run(ViewOptions { scene: args.scene, graph: args.graph, size: args.size, seed: args.seed, frames: args.frames, screenshot: args.screenshot })
+    if let Some(d) = &args.screenshot_dir {
+        if !d.is_dir() {
+            return Err(UserError::in_file(d, "--screenshot-dir is not a folder (create it first)"));
+        }
+    }
+    viewer::run(ViewOptions {
+        scene: args.scene,
+        graph: args.graph,
+        size: args.size,
+        seed: args.seed,
+        frames: args.frames,
+        screenshot: args.screenshot,
+        screenshot_dir: args.screenshot_dir,
+        sample_target: args.stop_at,
+    })
 }
 
 pub fn machines() -> Result<(), UserError> {

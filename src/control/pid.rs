@@ -4,6 +4,7 @@
 //! trusted (NaN, infinite, negative, dt <= 0) are ignored, so the output is
 //! always finite and within its limits.
 
+/// How the integral is kept from winding up while the output is clamped.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AntiWindup {
     /// No protection (only for comparison: the integral winds up while the
@@ -11,17 +12,24 @@ pub enum AntiWindup {
     None,
     /// Back-calculation: the integral bleeds off what the clamp cut away,
     /// with time constant `tracking_s` (Åström & Hägglund).
-    BackCalculation { tracking_s: f64 },
+    BackCalculation {
+        /// The bleed's time constant, seconds.
+        tracking_s: f64,
+    },
 }
 
+/// Gains, limits and filtering of a `Pid`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PidConfig {
+    /// Proportional gain.
     pub kp: f64,
     /// Integral gain (per second).
     pub ki: f64,
     /// Derivative gain (seconds).
     pub kd: f64,
+    /// Lowest output.
     pub out_min: f64,
+    /// Highest output.
     pub out_max: f64,
     /// Output rises when the measurement is above the setpoint (frame time
     /// too long → raise the mask threshold → less work).
@@ -30,6 +38,7 @@ pub struct PidConfig {
     pub derivative_filter_s: f64,
     /// Longer steps (a pause, a breakpoint) count as this long.
     pub max_dt_s: f64,
+    /// How the integral is kept from winding up.
     pub anti_windup: AntiWindup,
 }
 
@@ -50,8 +59,10 @@ impl PidConfig {
     }
 }
 
+/// A PID controller (see the module docs); `update` it once a frame.
 #[derive(Debug, Clone)]
 pub struct Pid {
+    /// Its gains and limits, read at each `update`.
     pub config: PidConfig,
     integral: f64,
     last_measurement: Option<f64>,
@@ -70,6 +81,7 @@ impl Pid {
         Pid { config, integral: initial, last_measurement: None, derivative: 0.0, output: initial }
     }
 
+    /// The current output, within `[out_min, out_max]`.
     pub fn output(&self) -> f64 {
         self.output
     }

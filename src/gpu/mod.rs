@@ -16,10 +16,15 @@ pub const EXIT_USER_ERROR: i32 = 2;
 /// so a rebuild on another thread takes its own clone.
 #[derive(Clone)]
 pub struct Gpu {
+    /// The wgpu instance the adapter came from.
     pub instance: wgpu::Instance,
+    /// The chosen adapter.
     pub adapter: wgpu::Adapter,
+    /// The device, with the features and limits glint asked for.
     pub device: wgpu::Device,
+    /// The device's queue.
     pub queue: wgpu::Queue,
+    /// The adapter's name, backend and device type.
     pub info: wgpu::AdapterInfo,
     /// Timestamp queries available (per-pass GPU timings).
     pub timestamps: bool,
@@ -195,18 +200,28 @@ async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<
 /// Live wgpu objects by kind (see `Gpu::live_objects`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct LiveObjects {
+    /// Textures.
     pub textures: usize,
+    /// Texture views.
     pub texture_views: usize,
+    /// Buffers.
     pub buffers: usize,
+    /// Bind groups.
     pub bind_groups: usize,
+    /// Bind group layouts.
     pub bind_group_layouts: usize,
+    /// Pipeline layouts.
     pub pipeline_layouts: usize,
+    /// Compute pipelines.
     pub compute_pipelines: usize,
+    /// Shader modules.
     pub shader_modules: usize,
+    /// Query sets.
     pub query_sets: usize,
 }
 
 impl LiveObjects {
+    /// All of them together.
     pub fn total(&self) -> usize {
         self.textures
             + self.texture_views

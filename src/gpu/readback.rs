@@ -6,15 +6,20 @@ use crate::format::TexFormat;
 /// An RGBA f32 image, row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImageF32 {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width * height` pixels, RGBA.
     pub data: Vec<[f32; 4]>,
 }
 
 impl ImageF32 {
+    /// A black, transparent image.
     pub fn new(width: u32, height: u32) -> Self {
         ImageF32 { width, height, data: vec![[0.0; 4]; (width * height) as usize] }
     }
+    /// The pixel at column `x`, row `y` (panics outside the image).
     pub fn get(&self, x: u32, y: u32) -> [f32; 4] {
         self.data[(y * self.width + x) as usize]
     }

@@ -38,6 +38,8 @@ struct Slot {
     ran: Vec<bool>,
 }
 
+/// Begin/end timestamps for every pass of a schedule, read back through a
+/// ring of buffers (see the module docs).
 pub struct PassTimer {
     query_set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
@@ -49,6 +51,7 @@ pub struct PassTimer {
 }
 
 impl PassTimer {
+    /// A timer for a schedule of `passes` passes.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, passes: usize) -> PassTimer {
         let count = (2 * passes.max(1)) as u32;
         let size = u64::from(count) * 8;

@@ -10,13 +10,18 @@ use crate::error::{ron_error, UserError};
 pub use crate::format::TexFormat;
 use crate::scene::Feature;
 
+/// A frame graph file as parsed (`FrameGraph::load`); `compile` turns it into a `Schedule`.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrameGraph {
+    /// The graph's name, for messages and reports.
     pub name: String,
+    /// Texture resources, by name (the engine's own are bound by name without being declared).
     #[serde(default)]
     pub resources: BTreeMap<String, ResourceDesc>,
+    /// The passes, in file order (which the schedule keeps where dependencies allow).
     pub passes: Vec<PassDesc>,
+    /// The resource whose final version the graph renders.
     pub output: String,
     /// The irradiance-volume probe grid, for graphs with probe passes
     /// (sizes `ProbeTiles`, the `frame` uniform's probe fields).
@@ -29,7 +34,9 @@ pub struct FrameGraph {
 /// or `requires: [DdgiProbes]`; the other mode's passes are culled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 pub enum ProbeMode {
+    /// Chapter 3's hemisphere maps.
     Thesis,
+    /// DDGI's octahedral maps.
     Ddgi,
 }
 
@@ -38,9 +45,12 @@ pub enum ProbeMode {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProbesDesc {
+    /// Which kind of volume.
     pub mode: ProbeMode,
+    /// L: (L+1)^3 probes, 1 to `MAX_PROBE_LEVEL` (7 when omitted).
     #[serde(default = "default_level")]
     pub level: u32,
+    /// Fraction of the scene's extent left out on each side, in [0, 0.5) (0.1 when omitted).
     #[serde(default = "default_padding")]
     pub padding: f32,
 }
@@ -63,8 +73,10 @@ impl ProbesDesc {
     }
 }
 
+/// A graph resource (`resources:` in a graph).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 pub enum ResourceDesc {
+    /// A texture.
     Texture(TextureDesc),
 }
 
@@ -72,7 +84,9 @@ pub enum ResourceDesc {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureDesc {
+    /// Texel format.
     pub format: TexFormat,
+    /// Size; the render size when omitted.
     #[serde(default)]
     pub size: SizeDesc,
     /// Survives across frames (read at version 0 = last frame's result).
@@ -86,6 +100,7 @@ pub struct TextureDesc {
     pub persistent: bool,
 }
 
+/// A texture's or a dispatch's size, absolute or relative to the render size.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Default)]
 pub enum SizeDesc {
     /// The render size.
@@ -93,6 +108,7 @@ pub enum SizeDesc {
     Screen,
     /// The render size times a factor (at least 1x1).
     Scaled(f32),
+    /// A fixed size in texels (width, height).
     Fixed(u32, u32),
     /// One tile of w x h texels per probe of the graph's `probes` grid:
     /// (n^2 w) x (n h) for n probes per axis, probe (i, j, k) at tile
@@ -101,6 +117,7 @@ pub enum SizeDesc {
 }
 
 impl SizeDesc {
+    /// Width and height in texels at render size `screen`; every side at least 1.
     pub fn resolve(self, screen: (u32, u32)) -> (u32, u32) {
         match self {
             SizeDesc::Screen => screen,
@@ -127,6 +144,7 @@ impl SizeDesc {
 /// may write only persistent resources, which keep what they wrote.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
 pub enum RunMode {
+    /// Every frame (the default).
     #[default]
     EveryFrame,
     /// In the first frame after the graph is built (load, reload).
@@ -142,7 +160,9 @@ pub enum RunMode {
     /// changed (forever without `until`); a scene change starts the count
     /// again.
     Progressive {
+        /// Dispatches (iterations) a frame.
         per_frame: u32,
+        /// Iterations to run after a scene change; forever when omitted.
         #[serde(default)]
         until: Option<u32>,
     },
@@ -168,16 +188,22 @@ impl RunMode {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(untagged)]
 pub enum ParamValue {
+    /// `true` or `false`, packed as 1 or 0.
     Bool(bool),
+    /// An integer (fits `u32`, `i32` and `f32` members).
     Int(i64),
+    /// A number with a fraction (`f32` members only).
     Float(f64),
+    /// One number per component of a vector member.
     Vector(Vec<f64>),
 }
 
+/// One pass of a graph (`Pass(...)`): a compute shader and what it binds.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[serde(rename = "Pass")]
 pub struct PassDesc {
+    /// Unique within the graph; names it in messages, reports and timings.
     pub name: String,
     /// File name under `shaders/`.
     pub shader: String,
@@ -245,6 +271,7 @@ where
 }
 
 impl FrameGraph {
+    /// Parse graph text; `path` is for messages. Errors carry file, line and column.
     pub fn parse(text: &str, path: &Path) -> Result<FrameGraph, UserError> {
         // A UTF-8 byte order mark is not RON; editors may write one.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
@@ -313,6 +340,7 @@ impl FrameGraph {
         }
     }
 
+    /// Read and parse a graph file.
     pub fn load(path: &Path) -> Result<FrameGraph, UserError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| UserError::in_file(path, format!("cannot read the graph file: {e}")))?;

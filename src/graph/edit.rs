@@ -10,8 +10,12 @@ use crate::graph::desc::{FrameGraph, ParamValue, ProbeMode, MAX_PROBE_LEVEL};
 /// One `pass.param=value` override.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamSet {
+    /// The pass's name (`probes` for the graph's probe grid).
     pub pass: String,
+    /// The param (a member of the pass's `params`, or `mode`, `level`, `padding`
+    /// of the probes).
     pub param: String,
+    /// The value to set.
     pub value: ParamValue,
 }
 
@@ -60,12 +64,16 @@ fn parse_value(v: &str) -> Result<ParamValue, String> {
 /// The edits of `CompileOptions`; empty by default.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct GraphEdits {
+    /// `--set`: param overrides, in order.
     pub set: Vec<ParamSet>,
+    /// `--skip`: passes to remove.
     pub skip: Vec<String>,
+    /// `--stop-after`: the last pass kept, in file order.
     pub stop_after: Option<String>,
 }
 
 impl GraphEdits {
+    /// Whether there is nothing to apply.
     pub fn is_empty(&self) -> bool {
         self.set.is_empty() && self.skip.is_empty() && self.stop_after.is_none()
     }

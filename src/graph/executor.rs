@@ -58,11 +58,14 @@ impl Timing {
 /// Milliseconds per pass of one frame, by pass name.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassTimings {
+    /// The executor's frame counter when the frame was recorded.
     pub frame: u64,
+    /// (pass name, milliseconds) for each pass that ran, in schedule order.
     pub passes: Vec<(String, f64)>,
 }
 
 impl PassTimings {
+    /// The sum over the passes, milliseconds.
     pub fn total(&self) -> f64 {
         self.passes.iter().map(|(_, ms)| ms).sum()
     }
@@ -104,8 +107,12 @@ struct TextureKey {
     usage: wgpu::TextureUsages,
 }
 
+/// Records a `Schedule`'s frames: owns its textures, params buffers, bind
+/// groups, timers and run counters.
 pub struct Executor {
+    /// The schedule it runs.
     pub schedule: Schedule,
+    /// The render size (width, height) its screen-sized textures have.
     pub size: (u32, u32),
     textures: Vec<Physical>,
     passes: Vec<PassGpu>,
@@ -438,6 +445,20 @@ impl Executor {
         })
     }
 
+    /// The bakes' progress: iterations run since the scene last changed,
+    /// and iterations to run, summed over the progressive passes that
+    /// stop (`Progressive(until: ...)`); None when there are none.
+    pub fn bake_progress(&self) -> Option<(u32, u32)> {
+        let mut progress = None;
+        for (sp, st) in self.schedule.passes.iter().zip(&self.runs) {
+            if let RunMode::Progressive { until: Some(u), .. } = sp.run {
+                let (done, total) = progress.unwrap_or((0, 0));
+                progress = Some((done + st.since_change.min(u), total + u));
+            }
+        }
+        progress
+    }
+
     /// Marks every pass that does not run every frame as done for the
     /// scene at `epoch` (a volume loaded from a file): it runs again only
     /// when the scene changes. A progressive pass counts as `until`
@@ -593,6 +614,7 @@ impl Executor {
         (t.width(), t.height())
     }
 
+    /// Reads the last frame's output back to the CPU (waits for the GPU).
     pub fn read_output(&self, gpu: &Gpu) -> Result<ImageF32, UserError> {
         read_texture(&gpu.device, &gpu.queue, self.output_texture(), self.schedule.output_format)
     }
@@ -617,6 +639,7 @@ impl Executor {
         Some((&self.textures.get(index)?.texture, format))
     }
 
+    /// The passes' names, in schedule order.
     pub fn pass_names(&self) -> Vec<&str> {
         self.schedule.passes.iter().map(|p| p.name.as_str()).collect()
     }

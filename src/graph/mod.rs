@@ -28,9 +28,13 @@ pub use schedule::*;
 /// A graph with its shaders loaded and its schedule compiled.
 #[derive(Debug, Clone)]
 pub struct CompiledGraph {
+    /// The graph file.
     pub path: PathBuf,
+    /// The graph as parsed, before edits.
     pub desc: FrameGraph,
+    /// The loaded shaders, by the name passes give them.
     pub shaders: BTreeMap<String, Shader>,
+    /// The compiled schedule.
     pub schedule: Schedule,
 }
 
@@ -72,6 +76,7 @@ pub fn load_sources(desc: &FrameGraph, dir: &Path) -> Result<BTreeMap<String, sh
     Ok(sources)
 }
 
+/// Each shader's reflection, by name (what `compile` takes).
 pub fn reflections(shaders: &BTreeMap<String, Shader>) -> BTreeMap<String, ShaderInfo> {
     shaders.iter().map(|(k, s)| (k.clone(), s.info.clone())).collect()
 }

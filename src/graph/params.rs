@@ -21,6 +21,7 @@ pub enum ParamError {
 }
 
 impl ParamError {
+    /// The message, whatever the kind.
     pub fn message(&self) -> &str {
         match self {
             ParamError::Missing(m) | ParamError::Unknown(m) | ParamError::Bad(m) => m,
@@ -34,8 +35,11 @@ impl ParamError {
 pub struct PassParams {
     /// The shader file (for messages).
     pub shader: String,
+    /// The reflected layout of the `params` struct.
     pub layout: ParamsLayout,
+    /// Every member's value, by name.
     pub values: BTreeMap<String, ParamValue>,
+    /// The packed bytes of the uniform.
     pub bytes: Vec<u8>,
 }
 
@@ -55,6 +59,7 @@ impl PassParams {
         Ok(())
     }
 
+    /// The layout of member `name`, if the struct has one.
     pub fn member(&self, name: &str) -> Option<&ParamMember> {
         self.layout.members.iter().find(|m| m.name == name)
     }

@@ -20,6 +20,7 @@ use crate::graph::schedule::{ResolvedBinding, ScheduledPass};
 use crate::graph::CompiledGraph;
 use crate::shader::{BindingKind, SampleType, Shader, StorageAccess};
 
+/// What identifies a cached pipeline (see the module docs).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct PipelineKey {
     shader: String,
@@ -39,11 +40,13 @@ pub const CAMERA_STILL: &str = "CAMERA_STILL";
 
 /// A pipeline and the bind group layouts it was made with.
 pub struct CachedPipeline {
+    /// The pass's entry point.
     pub pipeline: wgpu::ComputePipeline,
     /// The pass's `listed` entry, with the same layout.
     pub listed: Option<wgpu::ComputePipeline>,
     /// Both again with CAMERA_STILL set, where the shader declares it.
     pub still: Option<(wgpu::ComputePipeline, Option<wgpu::ComputePipeline>)>,
+    /// Bind group layouts by group index.
     pub layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
 }
 
@@ -66,6 +69,7 @@ pub struct PipelineCache {
 
 /// The pipelines of one schedule, in pass order, with what had to be built.
 pub struct PipelineSet {
+    /// One pipeline per pass of the schedule, in order.
     pub per_pass: Vec<Arc<CachedPipeline>>,
     /// Names of the passes whose pipeline was not in the cache.
     pub built: Vec<String>,
@@ -74,6 +78,7 @@ pub struct PipelineSet {
     pub cache: PipelineCache,
 }
 
+/// The wgpu texture format of a graph format.
 pub fn wgpu_format(f: TexFormat) -> wgpu::TextureFormat {
     match f {
         TexFormat::R32Float => wgpu::TextureFormat::R32Float,
@@ -150,10 +155,12 @@ fn key(sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Pipe
 }
 
 impl PipelineCache {
+    /// Pipelines held.
     pub fn len(&self) -> usize {
         self.entries.len()
     }
 
+    /// Whether the cache holds no pipeline.
     pub fn is_empty(&self) -> bool {
         self.entries.is_empty()
     }

@@ -27,7 +27,9 @@ pub const RUN_BYTES: u64 = std::mem::size_of::<RunGpu>() as u64;
 /// One pass's counters across frames.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct RunState {
+    /// Dispatches since the graph was built or restarted.
     pub iteration: u32,
+    /// Dispatches since the scene last changed.
     pub since_change: u32,
     /// The scene epoch the pass last ran with; None before its first run.
     pub last_epoch: Option<u32>,

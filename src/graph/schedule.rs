@@ -22,14 +22,18 @@ pub const WORK_LIST_HEADER: u64 = 16;
 pub enum EngineResource {
     /// `var<uniform> frame: Frame` (camera, previous camera, frame index, seed, counts).
     Frame,
+    /// Spheres, sphere lights' own included (`SphereGpu` records).
     Spheres,
     /// Triangles, then the two-level BVH's nodes (one array, so traversal
     /// fetches a node pair or a triangle from the same place).
     Geometry,
     /// Shading normals, parallel to the triangles.
     Normals,
+    /// Per-mesh boxes and triangle ranges (`MeshGpu`), a storage buffer.
     Meshes,
+    /// Materials (`MaterialGpu` records).
     Materials,
+    /// Lights (`LightGpu` records).
     Lights,
     /// The TLAS instances.
     Instances,
@@ -48,6 +52,7 @@ pub enum EngineResource {
 }
 
 impl EngineResource {
+    /// Every engine resource.
     pub const ALL: [EngineResource; 12] = [
         EngineResource::Frame,
         EngineResource::Spheres,
@@ -63,6 +68,7 @@ impl EngineResource {
         EngineResource::Tiles,
     ];
 
+    /// The name a shader binds it by (`frame`, `scene_spheres`, ...).
     pub fn name(self) -> &'static str {
         match self {
             EngineResource::Frame => "frame",
@@ -80,6 +86,7 @@ impl EngineResource {
         }
     }
 
+    /// The engine resource a binding of this name takes, if any.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|e| e.name() == name)
     }
@@ -114,6 +121,7 @@ pub enum EngineKind {
 }
 
 impl EngineKind {
+    /// The declaration as WGSL writes it, for messages.
     pub fn wgsl(self) -> &'static str {
         match self {
             EngineKind::Uniform => "var<uniform>",
@@ -127,13 +135,22 @@ impl EngineKind {
 /// from frame to frame (history resources written out of place).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TexRef {
+    /// Always this texture (an index into `Schedule::textures`).
     Fixed(usize),
     /// `textures[slot ^ parity]` where the parity flips each frame when
     /// `flips` (the resource's last write of a frame lands in slot 1).
-    PingPong { textures: [usize; 2], slot: u8, flips: bool },
+    PingPong {
+        /// The pair, in slot order (indices into `Schedule::textures`).
+        textures: [usize; 2],
+        /// The slot this version lives in at parity 0.
+        slot: u8,
+        /// Whether the parity applies at all (else always `slot`).
+        flips: bool,
+    },
 }
 
 impl TexRef {
+    /// The texture index at frame parity `parity` (0 or 1).
     pub fn resolve(self, parity: u8) -> usize {
         match self {
             TexRef::Fixed(i) => i,
@@ -142,9 +159,12 @@ impl TexRef {
     }
 }
 
+/// What a binding binds.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Target {
+    /// A graph texture: the physical texture of a resource version.
     Texture(TexRef),
+    /// A buffer or texture the engine provides.
     Engine(EngineResource),
     /// The pass's own `params` uniform (see `ScheduledPass::params`).
     Params,
@@ -161,20 +181,31 @@ pub enum Target {
     TilePool,
 }
 
+/// One binding of a pass's entry point and what it binds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResolvedBinding {
+    /// The variable's name in the shader.
     pub name: String,
+    /// `@group`
     pub group: u32,
+    /// `@binding`
     pub binding: u32,
+    /// How the shader declares it (from reflection).
     pub kind: BindingKind,
+    /// What the executor binds to it.
     pub target: Target,
 }
 
+/// One dispatch of the schedule (a split pass gives several, `NAME#k`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScheduledPass {
+    /// The pass's name (`NAME#k` for the later dispatches of a split pass).
     pub name: String,
+    /// The shader's path as the graph names it, under shaders/.
     pub shader: String,
+    /// The entry point dispatched.
     pub entry: String,
+    /// The entry's `@workgroup_size`.
     pub workgroup_size: [u32; 3],
     /// The entry dispatched over the texels `entry` lists (`PassDesc::listed`).
     pub listed: Option<String>,
@@ -182,6 +213,7 @@ pub struct ScheduledPass {
     pub params: Option<crate::graph::params::PassParams>,
     /// `override` constants for the pipeline.
     pub constants: Vec<(String, f64)>,
+    /// Every binding of the entry, resolved.
     pub bindings: Vec<ResolvedBinding>,
     /// One invocation per texel of this size (the graph's `dispatch`, else
     /// the first texture written).
@@ -193,11 +225,13 @@ pub struct ScheduledPass {
     /// Schedule indices of the earlier passes whose writes it reads this
     /// frame (for `RunMode::OnInputChange`).
     pub inputs_from: Vec<usize>,
-    /// Names of resource versions read and written, for printing (`lit@2`).
+    /// Names of resource versions read, for printing (`lit@2`).
     pub reads: Vec<String>,
+    /// Names of resource versions written, for printing (`lit@3`).
     pub writes: Vec<String>,
 }
 
+/// Why compile left a pass out.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum CullReason {
     /// The scene lacks these features.
@@ -206,24 +240,34 @@ pub enum CullReason {
     Unreachable,
 }
 
+/// A pass compile left out.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CulledPass {
+    /// The pass's name in the graph.
     pub name: String,
+    /// Why it was left out.
     pub reason: CullReason,
 }
 
+/// How passes bind a physical texture (its wgpu usages).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct TexUsage {
+    /// Bound as a sampled texture.
     pub sampled: bool,
+    /// Bound as a storage texture.
     pub storage: bool,
 }
 
+/// One texture the executor creates; transient versions may share it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhysicalTexture {
     /// The resources (versions) that live in it, for labels and printing.
     pub label: String,
+    /// Its texel format.
     pub format: TexFormat,
+    /// Its size, absolute or relative to the render size.
     pub size: SizeDesc,
+    /// How passes bind it.
     pub usage: TexUsage,
     /// Survives across frames, never pooled (history or persistent).
     pub history: bool,
@@ -234,25 +278,41 @@ pub struct PhysicalTexture {
 /// One version of one resource and where it lives.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VersionInfo {
+    /// The resource's name in the graph.
     pub resource: String,
+    /// The version number: 0 is what a history or persistent resource
+    /// holds when the frame starts; each write adds one.
     pub version: u32,
+    /// The physical texture it lives in.
     pub texture: TexRef,
-    /// Schedule indices of the producing pass and of the last reader
-    /// (None for the previous frame's history version / never read).
+    /// Schedule index of the producing pass (None for the previous
+    /// frame's history version).
     pub first_use: Option<usize>,
+    /// Schedule index of the last pass that reads it (None if never read).
     pub last_use: Option<usize>,
 }
 
+/// A compiled frame graph: the passes in order, with every resource and
+/// binding resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Schedule {
+    /// The graph's name.
     pub name: String,
+    /// The scene features it was compiled against.
     pub features: SceneFeatures,
+    /// The dispatches, in order; a schedule index indexes this.
     pub passes: Vec<ScheduledPass>,
+    /// The passes compile left out, with why.
     pub culled: Vec<CulledPass>,
+    /// The physical textures, indexed by `TexRef`.
     pub textures: Vec<PhysicalTexture>,
+    /// Every resource version, with its texture and lifetime.
     pub versions: Vec<VersionInfo>,
+    /// The name of the output resource.
     pub output_resource: String,
+    /// The texture that holds the output's final version.
     pub output: TexRef,
+    /// The output's format.
     pub output_format: TexFormat,
     /// Whether the ping-pong parity flips after each frame.
     pub flips_parity: bool,
@@ -272,13 +332,17 @@ pub struct Schedule {
 /// Memory figures for a schedule at a given render size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MemoryStats {
+    /// Physical textures.
     pub textures: usize,
+    /// Their total size in bytes.
     pub bytes: u64,
     /// Bytes one texture per version would have taken, minus `bytes`.
     pub bytes_saved: u64,
 }
 
 impl Schedule {
+    /// Texture count and bytes at render size `screen` (pixels), and what
+    /// pooling saved.
     pub fn memory(&self, screen: (u32, u32)) -> MemoryStats {
         let bytes_of = |format: TexFormat, size: SizeDesc| {
             let (w, h) = size.resolve(screen);

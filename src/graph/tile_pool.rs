@@ -100,6 +100,7 @@ pub struct Fixup {
 }
 
 impl Fixup {
+    /// Builds the fixup pipeline.
     pub fn new(device: &wgpu::Device) -> Fixup {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tile pool fixup"),
@@ -121,6 +122,7 @@ impl Fixup {
 /// One pass's pool: the counter (bound as `tile_pool`), the buffer its
 /// second dispatch reads its size from, and the fixup's bindings.
 pub struct PassPool {
+    /// The counter, bound as `tile_pool`.
     pub buffer: wgpu::Buffer,
     args: wgpu::Buffer,
     fixup: wgpu::BindGroup,

@@ -7,11 +7,14 @@ use crate::image_io::to_srgb8;
 /// FLIP's default viewing condition: 0.7 m from a 0.7 m wide 3840 px monitor.
 pub const PIXELS_PER_DEGREE: f32 = 67.0;
 
+/// FLIP error over an image (0: identical, 1: most different).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlipStats {
+    /// Mean per-pixel error.
     pub mean: f32,
     /// The 99th percentile of per-pixel error.
     pub p99: f32,
+    /// Largest per-pixel error.
     pub max: f32,
 }
 
@@ -71,13 +74,18 @@ pub fn psnr(reference: &ImageF32, test: &ImageF32) -> f64 {
 /// `block`x`block` pixel blocks, per channel: |t - r| / max(r, floor).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BlockError {
+    /// Mean over blocks and channels.
     pub mean: f64,
+    /// 95th percentile.
     pub p95: f64,
+    /// Largest.
     pub max: f64,
     /// Mean luminance of test over reference.
     pub luminance_ratio: f64,
 }
 
+/// The `BlockError` of `test` against `reference` over `block`x`block` blocks
+/// (whole blocks only); `floor` keeps dark references from dividing by nearly 0.
 pub fn block_relative_error(reference: &ImageF32, test: &ImageF32, block: u32, floor: f64) -> BlockError {
     let block = block.max(1);
     let (bw, bh) = (reference.width / block, reference.height / block);

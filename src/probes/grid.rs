@@ -9,6 +9,7 @@
 
 use glam::{UVec3, Vec3};
 
+/// A regular grid of probes: probe (i, j, k) sits at `origin + spacing * (i, j, k)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProbeGrid {
     /// The position of probe (0, 0, 0).
@@ -40,6 +41,7 @@ impl ProbeGrid {
         Some(ProbeGrid { origin, spacing: span / level as f32, counts: UVec3::splat(level + 1) })
     }
 
+    /// Probes in all.
     pub fn probe_count(&self) -> u32 {
         self.counts.x * self.counts.y * self.counts.z
     }
@@ -49,6 +51,7 @@ impl ProbeGrid {
         p.x + self.counts.x * (p.y + self.counts.y * p.z)
     }
 
+    /// The world position of probe (i, j, k).
     pub fn position(&self, p: UVec3) -> Vec3 {
         self.origin + self.spacing * p.as_vec3()
     }

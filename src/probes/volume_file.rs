@@ -14,6 +14,7 @@ use crate::error::UserError;
 
 const MAGIC: &str = "glint-volume 1";
 
+/// The header line: what the volume was baked for and what it holds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct VolumeHeader {
     /// The scene file it was baked for (for messages).
@@ -22,7 +23,9 @@ pub struct VolumeHeader {
     pub scene_hash: u64,
     /// "thesis" or "ddgi".
     pub mode: String,
+    /// The grid's probe level L ((L+1)^3 probes).
     pub level: u32,
+    /// The grid's padding (share of the extent left free on each side).
     pub padding: f32,
     /// The bake's settings (paths, bounces, samples per axis...), as text.
     pub settings: Vec<(String, String)>,
@@ -30,21 +33,28 @@ pub struct VolumeHeader {
     pub textures: Vec<StoredTexture>,
 }
 
+/// One texture of the volume: a graph resource and its size.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct StoredTexture {
+    /// The graph resource it fills.
     pub resource: String,
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
 }
 
 /// A header and each texture's texels (RGBA, row by row).
 #[derive(Debug, Clone, PartialEq)]
 pub struct VolumeFile {
+    /// What the volume is.
     pub header: VolumeHeader,
+    /// Each texture's texels, in header order.
     pub texels: Vec<Vec<[f32; 4]>>,
 }
 
 impl VolumeFile {
+    /// The file's bytes; an error where a texture's texel count does not match its size.
     pub fn to_bytes(&self) -> Result<Vec<u8>, String> {
         for (t, data) in self.header.textures.iter().zip(&self.texels) {
             if data.len() != (t.width as usize) * (t.height as usize) {
@@ -59,6 +69,7 @@ impl VolumeFile {
         Ok(out)
     }
 
+    /// Parses a volume file's bytes; an error says what is wrong with them.
     pub fn from_bytes(bytes: &[u8]) -> Result<VolumeFile, String> {
         let first = bytes.iter().position(|&b| b == b'\n').ok_or("not a glint volume (no header line)")?;
         if &bytes[..first] != MAGIC.as_bytes() {
@@ -86,11 +97,13 @@ impl VolumeFile {
         Ok(VolumeFile { header, texels })
     }
 
+    /// Writes the volume to `path`.
     pub fn save(&self, path: &Path) -> Result<(), UserError> {
         let bytes = self.to_bytes().map_err(|e| UserError::in_file(path, e))?;
         std::fs::write(path, bytes).map_err(|e| UserError::in_file(path, format!("cannot write the volume: {e}")))
     }
 
+    /// Reads a volume from `path` (without checking it fits: see `VolumeHeader::mismatch`).
     pub fn load(path: &Path) -> Result<VolumeFile, UserError> {
         let bytes = std::fs::read(path).map_err(|e| UserError::in_file(path, format!("cannot read the volume: {e}")))?;
         Self::from_bytes(&bytes).map_err(|e| UserError::in_file(path, e))
@@ -136,6 +149,7 @@ pub fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
     h
 }
 
+/// FNV-1a's offset basis: the `h` to start `fnv1a` with.
 pub const FNV_START: u64 = 0xcbf29ce484222325;
 
 #[cfg(test)]

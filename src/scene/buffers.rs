@@ -166,13 +166,21 @@ pub fn geometry_bytes(data: &SceneData) -> Vec<u8> {
     bytes
 }
 
+/// The scene's GPU arrays, one per `EngineResource` it provides.
 pub struct SceneBuffers {
+    /// `scene_spheres`
     pub spheres: SceneTexture,
+    /// `scene_geometry`: the triangles, then the BVH nodes.
     pub geometry: SceneTexture,
+    /// `scene_normals`
     pub normals: SceneTexture,
+    /// `scene_meshes`, a storage buffer.
     pub meshes: wgpu::Buffer,
+    /// `scene_materials`
     pub materials: SceneTexture,
+    /// `scene_lights`
     pub lights: SceneTexture,
+    /// `scene_instances`: the TLAS instances.
     pub instances: SceneTexture,
     /// The flat scene seen from the camera and light 0, and each light's
     /// occluders (`origins`).
@@ -198,6 +206,7 @@ pub struct SceneBuffers {
     /// Whether the occluder lists leave out the triangles that cannot
     /// shadow their light (tests turn it off to compare).
     pub cull_occluders: bool,
+    /// The arrays as last uploaded.
     pub data: SceneData,
     /// Bumped whenever anything visible changed.
     pub epoch: u32,
@@ -215,6 +224,7 @@ fn storage<T: Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buf
 }
 
 impl SceneBuffers {
+    /// Uploads `data` as a new scene (epoch 0); the per-frame tables start empty.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, data: SceneData) -> SceneBuffers {
         let origin_table = origin_table(&data, &Viewpoints { camera: Vec3::ZERO, probes: None, pixels: None }, true);
         let flat_bytes = flat_uniform(&data);

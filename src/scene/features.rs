@@ -6,14 +6,21 @@ use serde::{Deserialize, Serialize};
 /// A capability a pass can require of the scene (`requires: [...]` in a graph).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum Feature {
+    /// Quads or OBJ meshes.
     Meshes,
+    /// Sphere objects (sphere lights do not count).
     Spheres,
+    /// Point lights.
     PointLights,
+    /// Sphere (area) lights.
     AreaLights,
     /// Any light at all (point or area).
     Lights,
+    /// A material with a specular lobe that some object uses.
     Specular,
+    /// An emissive material that some object uses (sphere lights' own do not count).
     Emissive,
+    /// Anything that moves.
     Motion,
     /// The graph's `probes.mode` is `Thesis` (a property of the graph, not
     /// of the scene: compile decides it, `SceneFeatures::has` says no).
@@ -23,6 +30,7 @@ pub enum Feature {
 }
 
 impl Feature {
+    /// The scene features (not the graph's probe modes), for printing.
     pub const ALL: [Feature; 8] = [
         Feature::Meshes,
         Feature::Spheres,
@@ -38,12 +46,19 @@ impl Feature {
 /// What a loaded scene contains.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SceneFeatures {
+    /// Has quads or OBJ meshes.
     pub meshes: bool,
+    /// Has sphere objects (sphere lights do not count).
     pub spheres: bool,
+    /// Has point lights.
     pub point_lights: bool,
+    /// Has sphere lights.
     pub area_lights: bool,
+    /// Some object's material has a specular lobe.
     pub specular: bool,
+    /// Some object's material emits.
     pub emissive: bool,
+    /// Something moves.
     pub motion: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
     pub lights: u32,
@@ -70,6 +85,7 @@ impl SceneFeatures {
         }
     }
 
+    /// Whether the scene has `f` (never for the probe modes).
     pub fn has(&self, f: Feature) -> bool {
         match f {
             Feature::Meshes => self.meshes,

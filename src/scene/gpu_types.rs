@@ -9,11 +9,17 @@ use bytemuck::{Pod, Zeroable};
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct SphereGpu {
+    /// Centre, relative to the packing origin.
     pub center: [f32; 3],
+    /// Radius (world units).
     pub radius: f32,
+    /// Index into the material array.
     pub material: u32,
+    /// Index into the light array for a sphere light, else -1.
     pub light: i32,
+    /// The `ObjectId` it belongs to.
     pub object: u32,
+    /// Padding; zero.
     pub _pad: u32,
 }
 
@@ -23,11 +29,17 @@ pub struct SphereGpu {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct TriangleGpu {
+    /// First vertex, relative to the packing origin.
     pub p0: [f32; 3],
+    /// Index into the material array.
     pub material: u32,
+    /// Second vertex.
     pub p1: [f32; 3],
+    /// The `ObjectId` of its mesh instance.
     pub object: u32,
+    /// Third vertex.
     pub p2: [f32; 3],
+    /// Padding; zero.
     pub _pad0: u32,
 }
 
@@ -36,11 +48,17 @@ pub struct TriangleGpu {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct TriangleNormalsGpu {
+    /// Unit shading normal at `p0`.
     pub n0: [f32; 3],
+    /// Padding; zero.
     pub _pad1: f32,
+    /// Unit shading normal at `p1`.
     pub n1: [f32; 3],
+    /// Padding; zero.
     pub _pad2: f32,
+    /// Unit shading normal at `p2`.
     pub n2: [f32; 3],
+    /// Padding; zero.
     pub _pad3: f32,
 }
 
@@ -49,9 +67,13 @@ pub struct TriangleNormalsGpu {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct MeshGpu {
+    /// The box's minimum corner.
     pub bmin: [f32; 3],
+    /// Index of its first triangle.
     pub first: u32,
+    /// The box's maximum corner.
     pub bmax: [f32; 3],
+    /// Number of triangles.
     pub count: u32,
 }
 
@@ -59,13 +81,19 @@ pub struct MeshGpu {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct MaterialGpu {
+    /// Diffuse reflectance, linear RGB in 0..1.
     pub albedo: [f32; 3],
+    /// Probability of the specular lobe, 0..1.
     pub specular: f32,
+    /// Emitted radiance, linear RGB.
     pub emission: [f32; 3],
+    /// How far the specular lobe leans from the mirror direction (0) toward a diffuse one (1).
     pub roughness: f32,
 }
 
+/// `LightGpu::kind` of a point light.
 pub const LIGHT_POINT: u32 = 0;
+/// `LightGpu::kind` of a sphere light.
 pub const LIGHT_SPHERE: u32 = 1;
 
 /// `struct Light` (32 bytes). Point light: `color` is intensity I (W/sr),
@@ -74,25 +102,36 @@ pub const LIGHT_SPHERE: u32 = 1;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct LightGpu {
+    /// Centre, relative to the packing origin.
     pub position: [f32; 3],
+    /// Sphere radius; 0 for a point light.
     pub radius: f32,
+    /// Intensity I (point) or radiance L (sphere), linear RGB.
     pub color: [f32; 3],
+    /// `LIGHT_POINT` or `LIGHT_SPHERE`.
     pub kind: u32,
 }
 
 /// Everything the GPU needs of a scene, as flat arrays.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SceneData {
+    /// Spheres: sphere objects, then one per visible sphere light.
     pub spheres: Vec<SphereGpu>,
+    /// Every mesh instance's triangles, mesh after mesh.
     pub triangles: Vec<TriangleGpu>,
     /// Parallel to `triangles`.
     pub normals: Vec<TriangleNormalsGpu>,
+    /// One per mesh instance with triangles, in `ObjectId` order.
     pub meshes: Vec<MeshGpu>,
+    /// Every material, indexed by material id.
     pub materials: Vec<MaterialGpu>,
+    /// Lights, in the order of the scene's `lights`.
     pub lights: Vec<LightGpu>,
+    /// Radiance of rays that leave the scene, linear RGB.
     pub background: [f32; 3],
     /// The two-level BVH (filled by `bvh::scene::SceneBvh::update`).
     pub bvh: Vec<crate::bvh::BvhNode>,
+    /// The TLAS instances (filled with `bvh`).
     pub instances: Vec<crate::bvh::scene::InstanceGpu>,
 }
 

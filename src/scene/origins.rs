@@ -40,7 +40,9 @@ pub const ORIGIN_TABLE_TEXELS: usize = ORIGIN_ROWS * ORIGIN_ROW_TEXELS + OCCLUDE
 /// by the distance relocation may move them) when it has probes.
 #[derive(Debug, Clone, Copy)]
 pub struct Viewpoints {
+    /// The camera position, relative to the packing origin.
     pub camera: Vec3,
+    /// The box the probes can be in (min, max), when the graph has probes.
     pub probes: Option<(Vec3, Vec3)>,
     /// The camera's pixels, for the screen tiles' entries
     /// (`crate::bvh::tiles`); None: no tile table.

@@ -15,7 +15,9 @@ use super::features::SceneFeatures;
 /// One override constant set away from its generic default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Specialisation {
+    /// The override's name in the shaders.
     pub constant: &'static str,
+    /// The value set.
     pub value: bool,
     /// Why, in words, for `graph check`.
     pub reason: &'static str,
@@ -32,7 +34,9 @@ impl Specialisation {
 pub const SCENE_SPHERES: &str = "SCENE_SPHERES";
 /// Whether rays can hit triangles (meshes and quads).
 pub const SCENE_MESHES: &str = "SCENE_MESHES";
+/// Whether the scene has point lights.
 pub const SCENE_POINT_LIGHTS: &str = "SCENE_POINT_LIGHTS";
+/// Whether the scene has sphere lights.
 pub const SCENE_AREA_LIGHTS: &str = "SCENE_AREA_LIGHTS";
 /// Whether any surface is specular (reflects: reflection depth above 0).
 pub const SCENE_SPECULAR: &str = "SCENE_SPECULAR";

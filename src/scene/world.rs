@@ -13,9 +13,13 @@ use super::gpu_types::MaterialGpu;
 /// origin near the camera (`SceneGpu::origin`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
+    /// Eye position.
     pub position: DVec3,
+    /// The point looked at.
     pub target: DVec3,
+    /// Up direction (need not be unit, nor orthogonal to the view).
     pub up: Vec3,
+    /// Full vertical field of view, degrees.
     pub vfov_deg: f32,
 }
 
@@ -23,9 +27,13 @@ pub struct Camera {
 /// then lights), `Transform`, and one of `SphereShape`, `MeshShape` or
 /// `Light`; movers also carry `Motion` and `BasePosition`.
 pub struct Scene {
+    /// The entities.
     pub world: hecs::World,
+    /// The viewpoint as loaded.
     pub camera: Camera,
+    /// Radiance of rays that leave the scene, linear RGB.
     pub background: Vec3,
+    /// What the scene holds (which passes and code it needs).
     pub features: SceneFeatures,
     /// The scene file (used in messages and to resolve mesh paths).
     pub path: PathBuf,
@@ -58,14 +66,18 @@ impl Scene {
 /// Local-space triangles of one mesh: an OBJ file or a quad.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MeshData {
+    /// Local-space triangles, in file order.
     pub triangles: Vec<LocalTriangle>,
 }
 
 /// Positions, unit shading normals and material id of one triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LocalTriangle {
+    /// Vertex positions.
     pub p: [Vec3; 3],
+    /// Unit shading normals at the vertices.
     pub n: [Vec3; 3],
+    /// Index into the scene's materials.
     pub material: u32,
 }
 
@@ -74,19 +86,23 @@ pub struct LocalTriangle {
 /// coordinates are f32, relative to it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Transform {
+    /// World position of the local origin.
     pub translation: DVec3,
+    /// Rotation applied after the scale.
     pub rotation: Quat,
     /// Uniform, so normals only need the rotation.
     pub scale: f32,
 }
 
 impl Transform {
+    /// No translation, rotation or scaling.
     pub const IDENTITY: Transform = Transform {
         translation: DVec3::ZERO,
         rotation: Quat::IDENTITY,
         scale: 1.0,
     };
 
+    /// A pure translation.
     pub fn from_translation(translation: DVec3) -> Self {
         Transform {
             translation,
@@ -105,6 +121,7 @@ impl Transform {
         ((self.translation - origin) + self.rotation.as_dquat() * (f64::from(self.scale) * p.as_dvec3())).as_vec3()
     }
 
+    /// Local normal `n` rotated into the world, unit length (`n` itself if that fails).
     pub fn normal(&self, n: Vec3) -> Vec3 {
         (self.rotation * n).normalize_or(n)
     }
@@ -121,12 +138,14 @@ pub struct LightIndex(pub u32);
 /// A sphere object centred on its `Transform::translation`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SphereShape {
+    /// Radius (world units).
     pub radius: f32,
 }
 
 /// A mesh instance: an index into `Scene::meshes()`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MeshShape {
+    /// Index into `Scene::meshes()`.
     pub mesh: usize,
 }
 
@@ -139,9 +158,17 @@ pub struct MaterialId(pub u32);
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
     /// Radiance L, uniform over the sphere.
-    Sphere { radius: f32, radiance: Vec3 },
+    Sphere {
+        /// Radius (world units).
+        radius: f32,
+        /// Radiance L, linear RGB.
+        radiance: Vec3,
+    },
     /// Intensity I (W/sr).
-    Point { intensity: Vec3 },
+    Point {
+        /// Intensity I (W/sr), linear RGB.
+        intensity: Vec3,
+    },
 }
 
 /// Where `Linear` motion starts (the position written in the file).
@@ -155,15 +182,24 @@ pub enum Motion {
     /// `u`, `v` are orthonormal and `u × v` is the axis (counter-clockwise
     /// seen from the axis tip). The position written in the file is not used.
     Orbit {
+        /// The orbit's centre.
         center: DVec3,
+        /// Unit direction at φ = 0.
         u: DVec3,
+        /// Unit direction at φ = π/2.
         v: DVec3,
+        /// Orbit radius (world units).
         radius: f32,
+        /// Seconds per turn.
         period_s: f32,
+        /// Angle at t = 0, radians.
         phase_rad: f32,
     },
     /// `base + velocity * t`.
-    Linear { velocity: DVec3 },
+    Linear {
+        /// World units per second.
+        velocity: DVec3,
+    },
 }
 
 impl Motion {

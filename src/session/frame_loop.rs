@@ -93,6 +93,11 @@ pub struct FrameLoop {
     /// The last step's wall time was longer than scene time may advance
     /// in one frame (MAX_STEP_S): animations run slower than the clock.
     pub slowed: bool,
+    /// Frames to accumulate, after which a still image renders no more
+    /// (None: render every step).
+    pub sample_target: Option<u32>,
+    /// The last step rendered nothing: the sample target was reached.
+    pub converged: bool,
     last_step: Option<Instant>,
 }
 
@@ -102,13 +107,30 @@ pub const MAX_STEP_S: f32 = 0.25;
 
 impl FrameLoop {
     pub fn new(time: f32, clock: Clock, base_camera: Camera) -> FrameLoop {
-        FrameLoop { time, clock, paused: false, camera_path: None, base_camera, target: None, stats: FrameStats::default(), slowed: false, last_step: None }
+        FrameLoop {
+            time,
+            clock,
+            paused: false,
+            camera_path: None,
+            base_camera,
+            target: None,
+            stats: FrameStats::default(),
+            slowed: false,
+            sample_target: None,
+            converged: false,
+            last_step: None,
+        }
     }
 
     /// Renders one frame: camera from the path, the frame, the PID update
     /// from the measured time, statistics; then advances the clock.
     pub fn step(&mut self, session: &mut Session) -> FrameReport {
         let now = Instant::now();
+        self.converged = self.camera_path.is_none() && self.sample_target.is_some_and(|n| session.accumulated() >= n) && session.still();
+        if self.converged {
+            self.last_step = Some(now);
+            return FrameReport { time: self.time, wall_ms: 0.0, timings: Vec::new() };
+        }
         if self.clock == Clock::Real && !self.paused {
             if let Some(last) = self.last_step {
                 let wall = now.duration_since(last).as_secs_f32();

@@ -288,6 +288,13 @@ impl Session {
         self.state.accum_count
     }
 
+    /// Whether the next frame would only add samples to the last one's:
+    /// the camera is where it was, nothing in the scene moves and no bake
+    /// is running. (A param, graph or scene change restarts the count.)
+    pub fn still(&self) -> bool {
+        self.state.last.is_some_and(|(c, _)| c == self.scene.scene.camera) && !self.scene.scene.compile_features().motion && !self.baking()
+    }
+
     pub fn read_output(&self) -> Result<ImageF32, UserError> {
         self.executor.read_output(&self.gpu)
     }
@@ -461,11 +468,24 @@ impl Session {
     /// profile), in one rebuild: all of it or nothing.
     pub fn switch_profile(&mut self, path: &Path, params: Vec<ParamSet>, size: (u32, u32)) -> Result<ReloadReport, UserError> {
         check_size(&self.gpu, size)?;
+        let rebuild = self.switch_job(path, params).run()?;
+        self.commit_sized(rebuild, size)
+    }
+
+    /// `switch_profile`'s rebuild, to run on any thread and then
+    /// `commit_sized` (the viewer builds it while it keeps presenting).
+    pub fn switch_job(&self, path: &Path, params: Vec<ParamSet>) -> RebuildJob {
         let mut job = self.job(RebuildKind::SwitchGraph(path.to_path_buf()));
         job.preset = params;
+        job
+    }
+
+    /// `commit` at another render size; on failure the old size stays.
+    pub fn commit_sized(&mut self, rebuild: Rebuild, size: (u32, u32)) -> Result<ReloadReport, UserError> {
+        check_size(&self.gpu, size)?;
         let old = self.size;
         self.size = size;
-        let result = job.run().and_then(|r| self.commit(r));
+        let result = self.commit(rebuild);
         if result.is_err() {
             self.size = old;
         }

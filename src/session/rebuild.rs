@@ -146,6 +146,21 @@ impl RebuildJob {
         }
     }
 
+    /// Runs the rebuild on a thread of its own; its result arrives on the
+    /// channel (nothing arrives if the thread could not start: the error
+    /// says so).
+    pub fn spawn(self) -> Result<std::sync::mpsc::Receiver<Result<Rebuild, UserError>>, UserError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::Builder::new()
+            .name("glint rebuild".into())
+            .spawn(move || {
+                // Nobody listening (the rebuild was superseded) is fine.
+                let _ = tx.send(self.run());
+            })
+            .map_err(|e| UserError::new(format!("cannot start a rebuild thread: {e}")))?;
+        Ok(rx)
+    }
+
     /// Runs the rebuild. Nothing of the session is touched.
     pub fn run(self) -> Result<Rebuild, UserError> {
         let started = Instant::now();

@@ -21,22 +21,31 @@ pub struct Sample {
     pub setting: String,
     /// 1-based frame number.
     pub frame: u32,
+    /// The frame's milliseconds.
     pub ms: f64,
+    /// Milliseconds of every frame up to and including this one.
     pub cum_ms: f64,
+    /// FLIP mean of the accumulated image against the reference.
     pub flip: f64,
+    /// Relative MSE of the accumulated image.
     pub relmse: f64,
+    /// PSNR of the accumulated image, dB.
     pub psnr: f64,
 }
 
 /// The samples of one graph and setting, in frame order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Curve {
+    /// The graph file's stem.
     pub graph: String,
+    /// The sweep setting ("" without a sweep).
     pub setting: String,
+    /// One per frame, in order.
     pub samples: Vec<Sample>,
 }
 
 impl Curve {
+    /// The graph, with the setting in brackets when there is one.
     pub fn label(&self) -> String {
         if self.setting.is_empty() { self.graph.clone() } else { format!("{} [{}]", self.graph, self.setting) }
     }
@@ -66,11 +75,14 @@ impl Curve {
 /// than one lucky frame's), and the cumulative times the two first reach it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpeedUp {
+    /// The FLIP mean both are timed to.
     pub flip: f64,
+    /// Cumulative milliseconds until `fast` first reaches it.
     pub fast_ms: f64,
     /// None: `slow` never got there in its frames (then `slow_total_ms`
     /// bounds the speed-up from below).
     pub slow_ms: Option<f64>,
+    /// `slow`'s cumulative milliseconds over all its frames.
     pub slow_total_ms: f64,
 }
 

@@ -9,8 +9,11 @@ use super::Curve;
 /// One graph's figures in motion.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MotionRow {
+    /// The graph's label (with its setting).
     pub label: String,
+    /// Mean FLIP of the compared frames.
     pub mean: f64,
+    /// 95th percentile FLIP of the compared frames (nearest rank).
     pub p95: f64,
     /// Mean FLIP between consecutive frames less the references' own (only
     /// when every frame is compared).
@@ -18,6 +21,7 @@ pub struct MotionRow {
 }
 
 impl MotionRow {
+    /// The figures of `curve` (NaN where no frame has a finite FLIP).
     pub fn new(label: String, curve: &Curve, flicker: Option<f64>) -> MotionRow {
         let mut flips: Vec<f64> = curve.samples.iter().map(|s| s.flip).filter(|f| f.is_finite()).collect();
         flips.sort_by(f64::total_cmp);

@@ -98,8 +98,11 @@ fn draw_into(buffer: &mut [u8], size: (u32, u32), title: &str, curves: &[Curve],
 /// One column of `compare.png`: a label, an sRGB8 image and, for a graph,
 /// its FLIP map against the reference (magma) and FLIP mean.
 pub struct Panel {
+    /// The caption.
     pub label: String,
+    /// The image, sRGB8 RGB at the panel size.
     pub image: Vec<u8>,
+    /// The FLIP map (magma, sRGB8 RGB) and FLIP mean, for a graph.
     pub flip_map: Option<(Vec<u8>, f64)>,
 }
 

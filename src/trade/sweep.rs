@@ -27,27 +27,36 @@ use crate::error::{ron_error, UserError};
 use crate::graph::desc::ParamValue;
 use crate::graph::edit::ParamSet;
 
+/// A sweep file: the settings each graph is rendered with.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(rename = "Sweep", deny_unknown_fields)]
 pub struct Sweep {
+    /// At least one; names unique.
     pub settings: Vec<Setting>,
 }
 
+/// One setting of a sweep (see the module docs).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Setting {
+    /// Labels the curve; unique within the sweep.
     pub name: String,
+    /// Param overrides, `"pass.param": value` (`--set`).
     #[serde(default)]
     pub params: BTreeMap<String, ParamValue>,
     /// Passes removed (`--skip`); what then feeds nothing is culled.
     #[serde(default)]
     pub skip: Vec<String>,
+    /// Render at this share of the size, in (0, 4] (1 when omitted).
     #[serde(default = "one")]
     pub resolution_scale: f32,
+    /// Frame-time target in milliseconds for the PID (none when omitted).
     #[serde(default)]
     pub target_ms: Option<f32>,
+    /// False: `--no-specialise` (true when omitted).
     #[serde(default = "yes")]
     pub specialise: bool,
+    /// False: `--no-cull` (true when omitted).
     #[serde(default = "yes")]
     pub cull: bool,
 }
@@ -82,11 +91,13 @@ impl Setting {
 }
 
 impl Sweep {
+    /// Read and check a sweep file.
     pub fn load(path: &Path) -> Result<Sweep, UserError> {
         let text = std::fs::read_to_string(path).map_err(|e| UserError::in_file(path, format!("cannot read the sweep: {e}")))?;
         Sweep::parse(&text, path)
     }
 
+    /// Parse and check sweep text; `path` is for messages.
     pub fn parse(text: &str, path: &Path) -> Result<Sweep, UserError> {
         let sweep: Sweep = ron::Options::default()
             .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)

@@ -16,7 +16,9 @@ use crate::graph::executor::Timing;
 use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
 use crate::session::{Session, SessionOptions};
 use crate::stats::{ReuseShare, REFLECT_REUSE};
-use crate::viewer::actions;
+use crate::session::rebuild::RebuildKind;
+use crate::viewer::actions::{self, Step, Switch};
+use crate::viewer::background::{After, Pending};
 use crate::viewer::camera::{self, CameraControl};
 use crate::viewer::keys::{self, KeyCommand, Viewpoints};
 use crate::viewer::panels::{self, Action, PanelInput, PanelState};
@@ -57,6 +59,8 @@ pub struct Viewer {
     control: CameraControl,
     mouse: Mouse,
     reloader: Option<Reloader>,
+    /// A graph, profile or scene switch being built off this thread.
+    pending: Option<Pending>,
     /// The error of the last failed rebuild, shown until a good one.
     overlay: Option<String>,
     last_reload: Option<String>,
@@ -138,7 +142,8 @@ impl Viewer {
         let clock = if options.frames.is_some() { Clock::Fixed { dt: SCRIPTED_DT } } else { Clock::Real };
         let mut frames = FrameLoop::new(0.0, clock, base_camera);
         frames.target = choice.target_ms.map(FrameTarget::new).transpose()?;
-        let control = CameraControl::for_camera(&base_camera);
+        frames.sample_target = options.sample_target;
+        let control = CameraControl::for_scene(&base_camera, session.scene.scene.bounds());
 
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
@@ -164,7 +169,7 @@ impl Viewer {
                 None
             }
         };
-        let mut panel = PanelState::new(choice.graphs.clone(), choice.profiles.clone(), choice.matched);
+        let mut panel = PanelState::new(choice.graphs.clone(), choice.profiles.clone(), choice.matched, options.size, choice.resolution_scale);
         if options.graph.is_some() {
             panel.active_profile = None;
         }
@@ -182,6 +187,7 @@ impl Viewer {
             control,
             mouse: Mouse::default(),
             reloader,
+            pending: None,
             overlay: None,
             last_reload: None,
             panel,
@@ -301,26 +307,60 @@ impl Viewer {
     }
 
     /// Opens another scene file (dropped on the window): its camera, its
-    /// lights; the graph stays. A file that fails to load leaves the
-    /// running scene as it was, with the error in the overlay.
+    /// lights; the graph stays. It loads off this thread; a file that
+    /// fails to load leaves the running scene as it was, with the error in
+    /// the overlay.
     fn open_scene(&mut self, path: PathBuf) {
         if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ron")) {
             let hint = "a scene is a .ron file; an OBJ mesh goes into one as an object (docs/scenes.md)";
             self.show_error(format!("{}: not a scene file: {hint}", path.display()));
             return;
         }
-        match self.session.open_scene(&path) {
-            Ok(report) => {
-                self.frames.base_camera = self.session.scene.scene.camera;
-                self.control = CameraControl::for_camera(&self.frames.base_camera);
-                self.window.set_title(&format!("glint: {} ({})", path.display(), self.gpu.info.name));
-                self.scene_path = path;
-                self.overlay = None;
-                self.last_reload = Some(format!("opened {} ({} in {:.0} ms)", self.scene_path.display(), report.passes_rebuilt(), report.ms));
-                println!("opened {}", self.scene_path.display());
-                self.refresh_reloader();
-            }
-            Err(e) => self.show_error(format!("{e} (keeping the scene shown)")),
+        let job = self.session.job(RebuildKind::OpenScene(path.clone()));
+        self.start_pending(job, path.display().to_string(), After::OpenScene(path));
+    }
+
+    fn start_pending(&mut self, job: crate::session::rebuild::RebuildJob, what: String, after: After) {
+        // A newer switch supersedes one still building (its result is dropped).
+        match Pending::start(job, what, after) {
+            Ok(p) => self.pending = Some(p),
+            Err(e) => self.show_error(e.to_string()),
+        }
+    }
+
+    /// Commits a switch whose rebuild finished, at this frame boundary.
+    fn poll_pending(&mut self) {
+        let Some(result) = self.pending.as_ref().and_then(Pending::poll) else { return };
+        let Some(pending) = self.pending.take() else { return };
+        let ms = pending.started.elapsed().as_secs_f64() * 1e3;
+        match pending.after {
+            After::Switch(commit) => match result.and_then(|r| actions::finish(&mut self.session, &mut self.frames, &commit, r)) {
+                Ok(report) => {
+                    self.panel.active_profile = commit.profile;
+                    self.panel.scale = commit.profile.and_then(|i| self.panel.profiles.get(i)).map_or(1.0, |p| p.resolution_scale);
+                    self.overlay = None;
+                    let gap = self.presents.longest_gap_since(pending.started, Instant::now());
+                    let line = format!("switched to {}: {} in {ms:.0} ms (longest gap between frames {gap:.0} ms)", commit.what, report.passes_rebuilt());
+                    let line = crate::reload::relative_to_cwd(&line);
+                    self.announce = Some(line.clone());
+                    self.last_reload = Some(line);
+                    self.refresh_reloader();
+                }
+                Err(e) => self.show_error(format!("{e} (keeping the running graph)")),
+            },
+            After::OpenScene(path) => match result.and_then(|r| self.session.commit(r)) {
+                Ok(report) => {
+                    self.frames.base_camera = self.session.scene.scene.camera;
+                    self.control = CameraControl::for_scene(&self.frames.base_camera, self.session.scene.scene.bounds());
+                    self.window.set_title(&format!("glint: {} ({})", path.display(), self.gpu.info.name));
+                    self.scene_path = path;
+                    self.overlay = None;
+                    self.last_reload = Some(format!("opened {} ({} in {ms:.0} ms)", self.scene_path.display(), report.passes_rebuilt()));
+                    println!("opened {}", self.scene_path.display());
+                    self.refresh_reloader();
+                }
+                Err(e) => self.show_error(format!("{e} (keeping the scene shown)")),
+            },
         }
     }
 
@@ -338,19 +378,24 @@ impl Viewer {
                     None => "no reuse record in this graph".into(),
                 });
             }
-            Action::SetGraph(_) => self.panel.active_profile = None,
             _ => {}
         }
-        match actions::apply(&mut self.session, &mut self.frames, &self.panel.profiles, self.options.size, &action) {
-            Ok(Some(report)) => {
-                if let Action::SetProfile(i) = action {
-                    self.panel.active_profile = Some(i);
+        match actions::start(&mut self.session, &mut self.frames, &self.panel.profiles, self.options.size, &action) {
+            Ok(Step::Switch(s)) => {
+                let Switch { job, commit } = *s;
+                let what = commit.what.clone();
+                self.start_pending(job, what, After::Switch(commit));
+            }
+            Ok(Step::Done(Some(report))) => {
+                if let Action::SetSize { requested, .. } = action {
+                    self.options.size = requested;
+                    self.panel.requested = requested;
                 }
                 self.overlay = None;
                 self.last_reload = Some(format!("{} in {:.0} ms", report.passes_rebuilt(), report.ms));
                 self.refresh_reloader();
             }
-            Ok(None) => {
+            Ok(Step::Done(None)) => {
                 if matches!(action, Action::SetParam { .. }) {
                     self.refresh_reloader();
                 }
@@ -404,6 +449,7 @@ impl Viewer {
         let dt = now.duration_since(self.last_frame).as_secs_f32();
         self.last_frame = now;
         self.poll_reload();
+        self.poll_pending();
         self.control.fly(&mut self.session.scene.scene.camera, dt.min(0.25));
         self.frames.step(&mut self.session);
         if let Some(e) = self.gpu.uncaptured.lock().ok().and_then(|mut l| l.pop()) {
@@ -413,7 +459,8 @@ impl Viewer {
         let raw = self.egui_state.take_egui_input(&self.window);
         let mut actions = Vec::new();
         let mut central = egui::Rect::NOTHING;
-        let rebuilding = self.reloader.as_ref().and_then(Reloader::running);
+        let switching = self.pending.as_ref().map(|p| p.what.clone());
+        let rebuilding = switching.or_else(|| self.reloader.as_ref().and_then(Reloader::running));
         let frame_plot = self.presents.plot();
         let input = PanelInput {
             frames: &self.frames,
@@ -535,7 +582,7 @@ impl Viewer {
         }
         let png = match (&self.options.screenshot, last) {
             (Some(p), true) => p.clone(),
-            _ => PathBuf::from(format!("glint-screenshot-{presented}.png")),
+            _ => self.options.screenshot_dir.clone().unwrap_or_default().join(format!("glint-screenshot-{presented}.png")),
         };
         let result = match capture {
             Some(c) => screenshot::save(&self.gpu, c, self.config.format, &png, &self.session, self.viewport),

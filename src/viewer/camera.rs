@@ -15,6 +15,8 @@ use crate::scene::Camera;
 
 /// Radians of turn per pixel of mouse motion.
 const LOOK_PER_PIXEL: f32 = 0.004;
+/// Seconds of a held W that cross the scene's largest side.
+pub const SCENE_CROSSING_S: f32 = 4.0;
 /// Closest the view direction gets to straight up or down (radians).
 const POLE_MARGIN: f32 = 0.02;
 
@@ -47,6 +49,17 @@ impl CameraControl {
     pub fn for_camera(c: &Camera) -> CameraControl {
         let d = (c.target - c.position).length() as f32;
         CameraControl { speed: if d.is_finite() && d > 0.0 { d * 0.5 } else { 1.0 }, keys: Keys::default() }
+    }
+
+    /// A speed that crosses the scene's largest side (`bounds`, as
+    /// `Scene::bounds` gives them) in `SCENE_CROSSING_S` seconds; from the
+    /// camera's distance to its target when the scene has no extent.
+    pub fn for_scene(c: &Camera, bounds: Option<(DVec3, DVec3)>) -> CameraControl {
+        let side = bounds.map_or(0.0, |(lo, hi)| (hi - lo).max_element()) as f32;
+        if side.is_finite() && side > 0.0 {
+            return CameraControl { speed: (side / SCENE_CROSSING_S).clamp(1e-6, 1e9), keys: Keys::default() };
+        }
+        CameraControl::for_camera(c)
     }
 
     /// The wheel: each notch scales the speed by 1.2.
@@ -157,5 +170,17 @@ mod tests {
         let mut ctl = CameraControl::for_camera(&c);
         ctl.wheel(1.0);
         assert!((ctl.speed - 1.8).abs() < 1e-5);
+    }
+
+    #[test]
+    fn fly_speed_follows_the_scene_size() {
+        let c = cam();
+        let cornell = Some((DVec3::splat(-1.0), DVec3::splat(1.0)));
+        assert!((CameraControl::for_scene(&c, cornell).speed - 2.0 / SCENE_CROSSING_S).abs() < 1e-6);
+        let city = Some((DVec3::ZERO, DVec3::new(4000.0, 10.0, 10.0)));
+        assert!((CameraControl::for_scene(&c, city).speed - 1000.0).abs() < 1e-3);
+        // No extent (an empty scene, a single point): the camera's distance.
+        assert_eq!(CameraControl::for_scene(&c, None).speed, CameraControl::for_camera(&c).speed);
+        assert_eq!(CameraControl::for_scene(&c, Some((DVec3::ONE, DVec3::ONE))).speed, CameraControl::for_camera(&c).speed);
     }
 }

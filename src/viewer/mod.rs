@@ -5,6 +5,7 @@
 
 pub mod actions;
 mod app;
+mod background;
 pub mod camera;
 pub mod keys;
 pub mod panels;
@@ -34,6 +35,10 @@ pub struct ViewOptions {
     /// Render this many frames, write the screenshot and exit.
     pub frames: Option<u32>,
     pub screenshot: Option<PathBuf>,
+    /// Where F12 writes its screenshots (None: the working folder).
+    pub screenshot_dir: Option<PathBuf>,
+    /// Frames a still image accumulates before it stops rendering.
+    pub sample_target: Option<u32>,
 }
 
 struct App {

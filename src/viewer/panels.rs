@@ -26,6 +26,14 @@ pub enum Action {
     SetEnabled { pass: String, enabled: bool },
     SetGraph(PathBuf),
     SetProfile(usize),
+    /// Render at `requested` times `scale` (a profile's resolution scale,
+    /// or one set by hand).
+    SetSize { requested: (u32, u32), scale: f32 },
+    /// The frame-time target the noise mask's PID steers to (None: off).
+    SetTarget(Option<f64>),
+    /// Frames to accumulate before a still image stops rendering (None:
+    /// never stop).
+    SetSampleTarget(Option<u32>),
     Pause(bool),
     /// Per-pass wall times on CPU adapters (submits passes one by one).
     Profile(bool),
@@ -49,13 +57,20 @@ pub struct PanelState {
     pub active_profile: Option<usize>,
     /// The last reflection-reuse measurement, in words.
     pub reuse: Option<String>,
+    /// The size asked for (before the resolution scale) and the scale.
+    pub requested: (u32, u32),
+    pub scale: f32,
+    /// The frame-time target being edited (ms), shown while off too.
+    target_ms: f64,
+    /// The sample target being edited, shown while off too.
+    sample_target: u32,
     /// Hints per shader file, read once per session generation.
     hints: BTreeMap<String, BTreeMap<String, Hint>>,
     hints_generation: u64,
 }
 
 impl PanelState {
-    pub fn new(graphs: Vec<PathBuf>, profiles: Vec<Profile>, matched_profile: Option<usize>) -> PanelState {
+    pub fn new(graphs: Vec<PathBuf>, profiles: Vec<Profile>, matched_profile: Option<usize>, requested: (u32, u32), scale: f32) -> PanelState {
         PanelState {
             resource: None,
             exposure: 0.0,
@@ -65,6 +80,10 @@ impl PanelState {
             matched_profile,
             active_profile: matched_profile,
             reuse: None,
+            requested,
+            scale,
+            target_ms: 100.0,
+            sample_target: 1024,
             hints: BTreeMap::new(),
             hints_generation: 0,
         }
@@ -99,8 +118,9 @@ pub struct PanelInput<'a> {
 pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelState) -> Vec<Action> {
     let mut actions = Vec::new();
     egui::ScrollArea::vertical().show(ui, |ui| {
-        stats(ui, session, input, state.reuse.as_deref(), &mut actions);
+        stats(ui, session, input, state, &mut actions);
         graphs(ui, session, state, &mut actions);
+        size(ui, input, state, &mut actions);
         schedule(ui, session, input, &mut actions);
         params(ui, session, state, &mut actions);
         resources(ui, session, state);
@@ -109,7 +129,37 @@ pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut Pane
     actions
 }
 
-fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>, actions: &mut Vec<Action>) {
+/// What converges: the accumulation (towards a sample target, after which
+/// a still image stops rendering) and a bake's progressive passes.
+fn progress(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelState, actions: &mut Vec<Action>) {
+    let n = session.accumulated();
+    ui.horizontal(|ui| {
+        let mut on = input.frames.sample_target.is_some();
+        if let Some(t) = input.frames.sample_target {
+            state.sample_target = t;
+        }
+        let toggled = ui.checkbox(&mut on, "stop at").on_hover_text("a still image stops rendering once it has this many frames").changed();
+        let edit = ui.add(egui::DragValue::new(&mut state.sample_target).range(1..=1_000_000).suffix(" frames"));
+        if toggled || edit.lost_focus() || edit.drag_stopped() {
+            actions.push(Action::SetSampleTarget(on.then_some(state.sample_target)));
+        }
+    });
+    match input.frames.sample_target {
+        Some(t) => {
+            let text = if input.frames.converged { format!("{n} / {t} frames: done, rendering stopped") } else { format!("{n} / {t} frames accumulated") };
+            ui.add(egui::ProgressBar::new((n as f32 / t as f32).min(1.0)).text(text));
+        }
+        None => {
+            ui.label(format!("frames accumulated: {n}"));
+        }
+    }
+    if let Some((done, total)) = session.executor.bake_progress() {
+        let text = if done >= total { format!("volume baked: {total} iterations") } else { format!("baking the volume: {done} / {total} iterations") };
+        ui.add(egui::ProgressBar::new(done as f32 / total.max(1) as f32).text(text));
+    }
+}
+
+fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelState, actions: &mut Vec<Action>) {
     let sched = &session.graph.schedule;
     ui.heading("glint");
     let fps = match input.fps {
@@ -118,7 +168,7 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>
         None => "FPS: after two frames".to_string(),
     };
     ui.label(format!("{fps}, {}x{}, graph `{}`", session.size.0, session.size.1, sched.name));
-    ui.label(format!("frames accumulated: {}", session.accumulated()));
+    progress(ui, session, input, state, actions);
     let time = if input.frames.paused {
         " (paused)"
     } else if input.frames.slowed {
@@ -132,7 +182,7 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, reuse: Option<&str>
             if ui.button("reflection reuse").on_hover_text("reads the reuse record back once (waits for the frame)").clicked() {
                 actions.push(Action::MeasureReuse);
             }
-            ui.label(reuse.unwrap_or("not measured"));
+            ui.label(state.reuse.as_deref().unwrap_or("not measured"));
         });
     }
     // Always one line, so the widgets below do not move when it changes.
@@ -187,6 +237,40 @@ fn graphs(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut 
     });
 }
 
+/// Sizes offered for the render, before the resolution scale.
+const SIZES: [(u32, u32); 6] = [(160, 90), (320, 180), (640, 360), (960, 540), (1280, 720), (1920, 1080)];
+
+/// Render size, resolution scale and the frame-time target.
+fn size(ui: &mut Ui, input: &PanelInput, state: &mut PanelState, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("size and target").default_open(false).show(ui, |ui| {
+        let (w, h) = state.requested;
+        egui::ComboBox::from_id_salt("size").selected_text(format!("size {w}x{h}")).show_ui(ui, |ui| {
+            for s in SIZES {
+                if ui.selectable_label(s == state.requested, format!("{}x{}", s.0, s.1)).clicked() && s != state.requested {
+                    actions.push(Action::SetSize { requested: s, scale: state.scale });
+                }
+            }
+        });
+        // Applied when the slider is let go: each change rebuilds textures.
+        let scale = ui.add(egui::Slider::new(&mut state.scale, 0.25..=2.0).step_by(0.05).text("resolution scale"));
+        if scale.drag_stopped() || (scale.changed() && !scale.dragged()) {
+            actions.push(Action::SetSize { requested: state.requested, scale: state.scale });
+        }
+        let mut on = input.frames.target.is_some();
+        if let Some(t) = &input.frames.target {
+            state.target_ms = t.target_ms;
+        }
+        ui.horizontal(|ui| {
+            let toggled = ui.checkbox(&mut on, "frame-time target").changed();
+            let slider = ui.add_enabled(on, egui::Slider::new(&mut state.target_ms, 5.0..=2000.0).logarithmic(true).suffix(" ms"));
+            if toggled || slider.drag_stopped() || (slider.changed() && !slider.dragged()) {
+                actions.push(Action::SetTarget(on.then_some(state.target_ms)));
+            }
+        });
+        ui.add(egui::Label::new(RichText::new("the noise mask's PID refines fewer pixels to meet it (graphs with a threshold pass)").weak()).wrap());
+    });
+}
+
 fn schedule(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Vec<Action>) {
     egui::CollapsingHeader::new("schedule").default_open(true).show(ui, |ui| {
         let sched = &session.graph.schedule;
@@ -208,7 +292,7 @@ fn schedule(ui: &mut Ui, session: &Session, input: &PanelInput, actions: &mut Ve
                             CullReason::Requires(fs) => cull_reason(fs),
                             CullReason::Unreachable => "culled: feeds nothing".to_string(),
                         };
-                        ui.label(RichText::new(format!("{name}: {why}")).color(Color32::GRAY));
+                        ui.add(egui::Label::new(RichText::new(format!("{name}: {why}")).color(Color32::GRAY)).wrap());
                     }
                     (false, None) => {
                         let last = &input.frames.stats.last;
@@ -266,7 +350,25 @@ fn cull_reason(features: &[Feature]) -> String {
     match (probes.first(), scene.is_empty()) {
         (Some(Feature::ThesisProbes), true) => "culled: the graph's probes mode is not Thesis".into(),
         (Some(_), true) => "culled: the graph's probes mode is not Ddgi".into(),
-        _ => format!("culled: the scene has no {scene:?}"),
+        _ => {
+            let words: Vec<&str> = scene.iter().map(|f| feature_words(f)).collect();
+            format!("culled: the scene has no {}", words.join(" and no "))
+        }
+    }
+}
+
+/// A scene feature as the panel says it.
+fn feature_words(f: &Feature) -> &'static str {
+    match f {
+        Feature::Meshes => "quads or meshes",
+        Feature::Spheres => "spheres",
+        Feature::PointLights => "point lights",
+        Feature::AreaLights => "sphere lights",
+        Feature::Lights => "lights",
+        Feature::Specular => "specular material",
+        Feature::Emissive => "emissive material",
+        Feature::Motion => "motion",
+        Feature::ThesisProbes | Feature::DdgiProbes => "probes",
     }
 }
 

@@ -29,13 +29,18 @@ const BINS: usize = 12;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
+    /// Box minimum corner.
     pub bmin: [f32; 3],
+    /// Index of the first child (interior) or first primitive position (leaf).
     pub left_first: u32,
+    /// Box maximum corner.
     pub bmax: [f32; 3],
+    /// Primitives in a leaf; 0 for an interior node.
     pub count: u32,
 }
 
 impl BvhNode {
+    /// The node's box.
     pub fn bounds(&self) -> Aabb {
         Aabb { min: Vec3::from(self.bmin), max: Vec3::from(self.bmax) }
     }
@@ -43,6 +48,7 @@ impl BvhNode {
         self.bmin = b.min.to_array();
         self.bmax = b.max.to_array();
     }
+    /// Whether it holds primitives (`count > 0`).
     pub fn is_leaf(&self) -> bool {
         self.count > 0
     }
@@ -52,7 +58,9 @@ impl BvhNode {
 /// position i (leaves index into `order`).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
+    /// The nodes; the root is node 0.
     pub nodes: Vec<BvhNode>,
+    /// The primitive at each leaf position.
     pub order: Vec<u32>,
 }
 
@@ -137,6 +145,7 @@ struct Task {
 /// at most one entry per level: the BLAS stack has 64 entries, the TLAS
 /// stack 16 (`TLAS_MAX_DEPTH`).
 pub const BLAS_MAX_DEPTH: u32 = 44;
+/// Default depth bound of the TLAS (its shader stack has 16 entries).
 pub const TLAS_MAX_DEPTH: u32 = 16;
 
 /// Levels a balanced subtree over `count` primitives needs below its root.

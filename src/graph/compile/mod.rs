@@ -37,26 +37,47 @@ use textures::assign_textures;
 use validate::validate;
 use versions::{assign_groups, assign_versions, check_output_written, writers_of};
 
+/// What kind of mistake a `CompileError` reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ErrorKind {
+    /// Two passes share a name.
     DuplicatePass,
+    /// A pass names a shader that is not in shaders/ (or lies outside it).
     UnknownShader,
+    /// A pass's entry point (or `listed` entry, or a split loop's `ENTRY_more`)
+    /// is missing or unfit.
     UnknownEntry,
+    /// `bind` maps a variable the entry point does not use.
     UnknownBinding,
+    /// A binding names neither a graph resource nor an engine resource.
     UnknownResource,
+    /// A binding's texel format differs from its resource's.
     FormatMismatch,
+    /// A binding's type or access does not fit what it binds.
     WrongAccess,
+    /// Two passes write one version of a resource, or a write would discard earlier ones.
     DuplicateWriter,
+    /// A pass reads a resource no earlier pass writes, or no pass writes the output.
     UnwrittenRead,
+    /// The output is not a declared resource.
     UnknownOutput,
+    /// Passes depend on each other in a cycle.
     Cycle,
+    /// The shader's `params` has a member the pass does not give.
     MissingParam,
+    /// The pass gives a param the shader's `params` lacks.
     UnknownParam,
+    /// A param or constant value does not fit, or the engine sets it.
     BadParam,
+    /// An override without a default is not given in `constants`.
     MissingConstant,
+    /// `constants` names an override the shader does not declare.
     UnknownConstant,
+    /// A `--set`, `--skip` or `--stop-after` edit does not apply.
     BadEdit,
+    /// A pass's `run` mode is out of range or writes what it may not.
     BadRun,
+    /// A size, dispatch or `texels_per_invocation` no texture or dispatch can have.
     BadSize,
 }
 
@@ -64,9 +85,13 @@ pub enum ErrorKind {
 /// adds the graph file's line (see `graph::locate`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CompileError {
+    /// What kind of mistake.
     pub kind: ErrorKind,
+    /// The pass at fault, if one is.
     pub pass: Option<String>,
+    /// Where the shader declares the binding at fault, if one is.
     pub shader_location: Option<Location>,
+    /// What is wrong and how to fix it.
     pub message: String,
 }
 
@@ -96,6 +121,8 @@ fn err_at(kind: ErrorKind, pass: &str, b: &BindingInfo, message: impl Into<Strin
     }
 }
 
+/// How `compile` departs from the graph as written: another output, edits,
+/// resources kept for reading back, no specialisation, no culling.
 #[derive(Debug, Clone, Default)]
 pub struct CompileOptions {
     /// Render this resource instead of the graph's `output` (debug views,
