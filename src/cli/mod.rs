@@ -38,13 +38,16 @@ use clap::{Parser, Subcommand};
 
 use crate::error::UserError;
 
+/// The parsed command line.
 #[derive(Parser, Debug)]
 #[command(name = "glint", version, about = "A real-time ray tracer in WGSL compute shaders")]
 pub struct Cli {
+    /// The subcommand to run.
     #[command(subcommand)]
     pub command: Command,
 }
 
+/// A `glint` subcommand.
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Render a scene headless to a PNG (sRGB) or EXR (linear) file.
@@ -57,17 +60,21 @@ pub enum Command {
     Bake(bake_cmd::BakeArgs),
     /// Benchmarks.
     Bench {
+        /// Which benchmark.
         #[command(subcommand)]
         command: bench_cmd::BenchCommand,
     },
     /// Frame graph tools.
     Graph {
+        /// Which tool.
         #[command(subcommand)]
         command: GraphCommand,
     },
     /// Compare an image with a reference: FLIP, relMSE, PSNR, block error.
     Compare {
+        /// The reference image (.png, .exr or .pfm).
         reference: PathBuf,
+        /// The image measured against it, of the same size.
         test: PathBuf,
         /// Block size for the block-averaged relative error (at least 1).
         #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..))]
@@ -82,18 +89,19 @@ pub enum Command {
     Shaders {
         /// Shader files under the shader folder, e.g. lights.wgsl.
         files: Vec<String>,
+        /// The shader folder (default: shaders).
         #[arg(long)]
         dir: Option<PathBuf>,
     },
 }
 
+/// A `glint graph` tool.
 #[derive(Subcommand, Debug)]
 pub enum GraphCommand {
     /// Compile a graph and print its schedule.
     Check(graph_cmd::CheckArgs),
 }
 
-/// Parses `WxH`.
 /// A finite number of seconds (`--time`, `--dt`): NaN and infinities are
 /// refused here, as the scene file refuses them.
 pub fn parse_seconds(s: &str) -> Result<f32, String> {
@@ -104,6 +112,7 @@ pub fn parse_seconds(s: &str) -> Result<f32, String> {
     Ok(v)
 }
 
+/// Parses `WxH` (or `WXH`) as a size in pixels, both sides at least 1.
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("`{s}` is not a size; write WxH, e.g. 256x256"))?;
     let w: u32 = w.trim().parse().map_err(|_| format!("`{w}` is not a whole number of pixels"))?;

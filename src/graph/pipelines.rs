@@ -166,32 +166,81 @@ impl PipelineCache {
     }
 
     /// Looks up or builds the pipeline of every pass of `graph`. Does not
-    /// change `self`: the result carries the cache to swap in.
+    /// change `self`: the result carries the cache to swap in. The
+    /// pipelines not in the cache are built in parallel (a driver compiles
+    /// each on the calling thread; lavapipe's LLVM takes 150-250 ms each).
     pub fn build(&self, device: &wgpu::Device, graph: &CompiledGraph, engine: &[(&str, f64)]) -> Result<PipelineSet, UserError> {
-        let mut per_pass = Vec::new();
-        let mut built = Vec::new();
-        let mut cache = PipelineCache::default();
         let mut engine = engine.to_vec();
         engine.extend(graph.schedule.specialisations.iter().map(|s| s.as_constant()));
-        for sp in &graph.schedule.passes {
+        // Each pass's key; the passes whose key is new, once per key.
+        let mut keys = Vec::new();
+        let mut missing: Vec<(usize, Vec<(String, f64)>)> = Vec::new();
+        for (i, sp) in graph.schedule.passes.iter().enumerate() {
             let shader = graph
                 .shaders
                 .get(&sp.shader)
                 .ok_or_else(|| UserError::new(format!("pass `{}`: shader {} was not loaded", sp.name, sp.shader)))?;
             let constants = pass_constants(sp, shader, &engine);
             let k = key(sp, shader, &constants);
-            let p = match cache.entries.get(&k).or_else(|| self.entries.get(&k)) {
+            if !self.entries.contains_key(&k) && !keys[..i].contains(&k) {
+                missing.push((i, constants));
+            }
+            keys.push(k);
+        }
+        let passes = &graph.schedule.passes;
+        let made = in_parallel(&missing, |(i, constants)| {
+            let sp = &passes[*i];
+            // Looked up above: every pass's shader is loaded.
+            let shader = &graph.shaders[&sp.shader];
+            create_guarded(device, sp, shader, constants)
+        });
+        let mut cache = PipelineCache::default();
+        let mut built = Vec::new();
+        for ((i, _), p) in missing.iter().zip(made) {
+            let p = p.ok_or_else(|| UserError::new(format!("pass `{}`: building its pipeline stopped without a result", passes[*i].name)))?;
+            cache.entries.insert(keys[*i].clone(), Arc::new(p?));
+            built.push(passes[*i].name.clone());
+        }
+        let mut per_pass = Vec::new();
+        for k in &keys {
+            let p = match cache.entries.get(k).or_else(|| self.entries.get(k)) {
                 Some(p) => Arc::clone(p),
-                None => {
-                    built.push(sp.name.clone());
-                    Arc::new(create_guarded(device, sp, shader, &constants)?)
-                }
+                None => return Err(UserError::new("internal: a pipeline was neither cached nor built")),
             };
-            cache.entries.insert(k, Arc::clone(&p));
+            cache.entries.insert(k.clone(), Arc::clone(&p));
             per_pass.push(p);
         }
         Ok(PipelineSet { per_pass, built, cache })
     }
+}
+
+/// `f` over `items` on up to as many threads as the machine has cores, the
+/// results in `items`' order (None where a thread panicked: a bug, as
+/// create_guarded catches the compiler's panics).
+fn in_parallel<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<Option<R>> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(items.len());
+    if threads <= 1 {
+        return items.iter().map(|x| Some(f(x))).collect();
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { return mine };
+                        mine.push((i, f(item)));
+                    }
+                })
+            })
+            .collect();
+        workers.into_iter().flat_map(|w| w.join().unwrap_or_default()).collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    let mut results = results.into_iter().peekable();
+    (0..items.len()).map(|i| results.next_if(|(j, _)| *j == i).map(|(_, r)| r)).collect()
 }
 
 /// `create`, with a panic in the shader compiler turned into an error that

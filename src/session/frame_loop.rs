@@ -18,18 +18,25 @@ use crate::session::{Session, DEFAULT_MASK_THRESHOLD};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Clock {
     /// By a fixed step (headless renders: reproducible).
-    Fixed { dt: f32 },
+    Fixed {
+        /// Scene seconds per frame (0: time stands still).
+        dt: f32,
+    },
     /// By the wall-clock time between frames (the viewer).
     Real,
 }
 
 /// A frame-time target driving the noise-mask threshold.
 pub struct FrameTarget {
+    /// The frame time to hold, milliseconds (finite, positive).
     pub target_ms: f64,
+    /// Sets `Session::mask_threshold` from the measured frame time.
     pub pid: Pid,
 }
 
 impl FrameTarget {
+    /// A target of `target_ms` milliseconds, the PID starting at
+    /// `DEFAULT_MASK_THRESHOLD`; an error unless finite and positive.
     pub fn new(target_ms: f64) -> Result<FrameTarget, UserError> {
         if !(target_ms.is_finite() && target_ms > 0.0) {
             return Err(UserError::new(format!("frame-time target {target_ms} ms: give a positive number of milliseconds")));
@@ -73,22 +80,30 @@ impl FrameStats {
 /// What one step did.
 #[derive(Debug, Clone)]
 pub struct FrameReport {
+    /// Scene time of the frame, seconds.
     pub time: f32,
+    /// Wall milliseconds of the step (0 when it rendered nothing).
     pub wall_ms: f64,
     /// Timings that arrived during this step (possibly of earlier frames).
     pub timings: Vec<PassTimings>,
 }
 
+/// Drives a `Session` frame after frame (`step`): scene time, the camera
+/// path, the frame-time target, the sample target and the statistics.
 pub struct FrameLoop {
     /// Scene time of the next frame, seconds.
     pub time: f32,
+    /// How `time` advances.
     pub clock: Clock,
     /// While paused, scene time stands still (the camera still moves).
     pub paused: bool,
+    /// Moves the camera by scene time (None: it stays where it is put).
     pub camera_path: Option<CameraPath>,
     /// The camera the path starts from.
     pub base_camera: Camera,
+    /// Drives the noise-mask threshold (None: the threshold stays as set).
     pub target: Option<FrameTarget>,
+    /// Every step's figures so far.
     pub stats: FrameStats,
     /// The last step's wall time was longer than scene time may advance
     /// in one frame (MAX_STEP_S): animations run slower than the clock.
@@ -106,6 +121,8 @@ pub struct FrameLoop {
 pub const MAX_STEP_S: f32 = 0.25;
 
 impl FrameLoop {
+    /// Starts at scene time `time` seconds: not paused, no camera path,
+    /// frame-time target or sample target.
     pub fn new(time: f32, clock: Clock, base_camera: Camera) -> FrameLoop {
         FrameLoop {
             time,

@@ -7,18 +7,26 @@ use glam::{DVec3, Vec3};
 use crate::bvh::tiles::PixelCamera;
 use crate::scene::Camera;
 
+/// A camera as the shaders see it (`struct Camera` in frame.wgsl): an
+/// orthonormal basis and the position relative to the scene's origin.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CameraGpu {
+    /// Position, relative to the scene's rebasing origin.
     pub origin: [f32; 3],
     /// tan(vfov / 2)
     pub tan_half_fov: f32,
+    /// Unit vector to the image's right.
     pub right: [f32; 3],
     /// width / height
     pub aspect: f32,
+    /// Unit vector to the image's top.
     pub up: [f32; 3],
+    /// Padding (WGSL layout).
     pub _pad0: f32,
+    /// Unit view direction.
     pub forward: [f32; 3],
+    /// Padding (WGSL layout).
     pub _pad1: f32,
 }
 
@@ -62,25 +70,41 @@ impl CameraGpu {
     }
 }
 
+/// The `frame` uniform, written once per frame (`struct Frame` in
+/// `shaders/shared/frame.wgsl`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct FrameGpu {
+    /// This frame's camera.
     pub camera: CameraGpu,
+    /// The last frame's camera, relative to this frame's origin (for
+    /// reprojection); the same as `camera` on the first frame and after
+    /// `Session::restart`.
     pub prev_camera: CameraGpu,
+    /// Render size in pixels, (width, height).
     pub size: [u32; 2],
     /// Frames rendered since start (drives per-frame randomness).
     pub frame_index: u32,
     /// Frames already in the accumulation history (0 = reset).
     pub accum_count: u32,
+    /// Scene time, seconds.
     pub time: f32,
+    /// The session's random seed.
     pub seed: u32,
+    /// Bumped whenever anything visible in the scene changed
+    /// (`SceneBuffers::epoch`).
     pub scene_epoch: u32,
+    /// Number of spheres.
     pub n_spheres: u32,
+    /// Number of TLAS instances.
     pub n_instances: u32,
+    /// Number of triangles, over every mesh instance.
     pub n_triangles: u32,
+    /// Number of lights.
     pub n_lights: u32,
     /// The noise-mask threshold (PID output when a target is set).
     pub mask_threshold: f32,
+    /// Radiance of rays that leave the scene, linear RGB.
     pub background: [f32; 3],
     /// Frames since the scene (lights, objects) last changed; 0 = every
     /// pixel's history is stale. Camera motion does not reset it.
@@ -95,12 +119,16 @@ pub struct FrameGpu {
     /// Neither camera motion nor scene changes reset it, so a denoiser
     /// that judges staleness itself keeps its history while lights move.
     pub history_frames: u32,
+    /// Padding (WGSL layout).
     pub _pad: f32,
     /// The graph's probe grid (see `probes::ProbeGrid`), relative to the
     /// scene's origin like every position: probe (0, 0, 0), the spacing,
     /// probes per axis (0 for a graph without probes).
     pub probe_origin: [f32; 3],
+    /// Probes per axis (0: no probes).
     pub probe_n: u32,
+    /// Distance between neighbouring probes, per axis.
     pub probe_spacing: [f32; 3],
+    /// Padding (WGSL layout).
     pub _pad2: u32,
 }

@@ -59,7 +59,10 @@ pub fn check_size(gpu: &Gpu, size: (u32, u32)) -> Result<(), UserError> {
 /// How a session renders.
 #[derive(Debug, Clone)]
 pub struct SessionOptions {
+    /// Render size in pixels, (width, height): at least 1 and at most the
+    /// adapter's largest texture side (`check_size`).
     pub size: (u32, u32),
+    /// Random seed of every pass's samples (the frame uniform's `seed`).
     pub seed: u32,
     /// Output override, `--set`/`--skip`/`--stop-after`, kept resources.
     pub compile: CompileOptions,
@@ -68,6 +71,8 @@ pub struct SessionOptions {
 }
 
 impl SessionOptions {
+    /// `size` with seed 1, default compile options and the shader folder
+    /// next to the graph's.
     pub fn new(size: (u32, u32)) -> SessionOptions {
         SessionOptions { size, seed: 1, compile: CompileOptions::default(), shader_dir: None }
     }
@@ -77,21 +82,26 @@ impl SessionOptions {
 /// where the files exist, as the watcher reports them).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Sources {
+    /// The shader folder.
     pub shader_dir: PathBuf,
+    /// The graph file.
     pub graph: PathBuf,
+    /// The scene file; None for a scene not loaded from a file.
     pub scene: Option<PathBuf>,
+    /// The mesh files the scene loads.
     pub meshes: Vec<PathBuf>,
 }
 
 /// What a committed rebuild did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReloadReport {
+    /// What the rebuild was for.
     pub kind: RebuildKind,
     /// Passes whose pipeline was built (not found in the cache).
     pub rebuilt: Vec<String>,
     /// Textures taken over from the replaced executor.
     pub textures_kept: usize,
-    /// From the start of the rebuild to the swap.
+    /// Milliseconds from the start of the rebuild to the swap.
     pub ms: f64,
 }
 
@@ -127,16 +137,25 @@ struct Retired {
     _pipelines: PipelineCache,
 }
 
+/// The live engine: the scene on the GPU, the compiled graph, its
+/// pipelines and executor, and the frame counters (see the module doc).
 pub struct Session {
+    /// The adapter, device and queue it renders with.
     pub gpu: Gpu,
+    /// The scene on the GPU; the camera is `scene.scene.camera`.
     pub scene: SceneGpu,
+    /// The compiled graph being run (compile options: `options()`).
     pub graph: CompiledGraph,
+    /// Runs `graph`'s schedule; owns its textures and the output.
     pub executor: Executor,
     shader_dir: PathBuf,
     options: CompileOptions,
     pipelines: PipelineCache,
     frame_buffer: wgpu::Buffer,
+    /// Render size in pixels, (width, height); change it with `resize`
+    /// (the executor's textures have this size).
     pub size: (u32, u32),
+    /// Random seed written into the frame uniform.
     pub seed: u32,
     /// Written into the frame uniform; the PID controller moves it.
     pub mask_threshold: f32,
@@ -295,6 +314,7 @@ impl Session {
         self.state.last.is_some_and(|(c, _)| c == self.scene.scene.camera) && !self.scene.scene.compile_features().motion && !self.baking()
     }
 
+    /// Reads the last frame's output back to the CPU (waits for the GPU).
     pub fn read_output(&self) -> Result<ImageF32, UserError> {
         self.executor.read_output(&self.gpu)
     }
@@ -316,6 +336,7 @@ impl Session {
         }
     }
 
+    /// The shader folder (canonical where it exists).
     pub fn shader_dir(&self) -> &Path {
         &self.shader_dir
     }

@@ -72,11 +72,17 @@ pub struct RebuildJob {
 
 /// A finished rebuild, waiting for `Session::commit`.
 pub struct Rebuild {
+    /// What it was for.
     pub kind: RebuildKind,
+    /// The recompiled graph.
     pub graph: CompiledGraph,
+    /// Its pipelines, and the cache that holds them.
     pub pipelines: PipelineSet,
+    /// The reloaded scene (None: the session keeps its own).
     pub scene: Option<SceneGpu>,
+    /// The compile options `graph` was compiled with.
     pub options: CompileOptions,
+    /// When the job started running (`ReloadReport::ms` counts from it).
     pub started: Instant,
 }
 
@@ -125,6 +131,7 @@ fn reuse_unchanged(
 }
 
 impl RebuildJob {
+    /// What the job rebuilds for.
     pub fn kind(&self) -> &RebuildKind {
         &self.kind
     }

@@ -28,6 +28,7 @@ pub const ONE_MESH: &str = "ONE_MESH";
 /// scene: how many spheres and triangles a flat scene has (0 otherwise), so
 /// the primary-ray sweep there tests exactly those.
 pub const FLAT_SPHERES: &str = "FLAT_SPHERES";
+/// With `FLAT_SPHERES`: how many triangles a flat scene has (0 otherwise).
 pub const FLAT_TRIANGLES: &str = "FLAT_TRIANGLES";
 /// The override in `shaders/shared/flat.wgsl` the engine sets from the
 /// scene: a flat scene's triangles pair up as quads (`SceneData::flat_pairs`).
@@ -38,11 +39,17 @@ pub const FLAT_PAIRS: &str = "FLAT_PAIRS";
 /// trace_pair's shadow ray toward that light leaves out.
 pub const FLAT_LAST_LIGHT_SPHERE: &str = "FLAT_LAST_LIGHT_SPHERE";
 
+/// The scene on the GPU: the scene, its BVH and its buffers, kept in step
+/// (see the module doc).
 pub struct SceneGpu {
+    /// The scene (world, f64), animated to the last `update`'s time; the
+    /// session's camera is `scene.camera`.
     pub scene: Scene,
+    /// The scene's two-level BVH.
     pub bvh: SceneBvh,
     /// The last BVH update (build on load, refit/TLAS rebuild on motion).
     pub bvh_stats: BuildStats,
+    /// The scene arrays on the GPU (positions relative to `origin`).
     pub buffers: SceneBuffers,
     /// The ray-offset scale of the scene as loaded (its size does not change
     /// when things move enough to matter: a power of two near half the

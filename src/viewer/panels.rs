@@ -443,12 +443,15 @@ fn resources(ui: &mut Ui, session: &Session, state: &mut PanelState) {
         names.sort();
         names.dedup();
         let shown = state.resource.clone().unwrap_or_else(|| format!("{} (output)", sched.output_resource));
-        egui::ComboBox::from_id_salt("resource").selected_text(shown).show_ui(ui, |ui| {
+        // Resource names in monospace: the proportional font's underscore
+        // sits below the combo box's clip rect (`reflect_reuse` read as
+        // `reflect reuse`).
+        egui::ComboBox::from_id_salt("resource").selected_text(RichText::new(shown).monospace()).show_ui(ui, |ui| {
             if ui.selectable_label(state.resource.is_none(), "output").clicked() {
                 state.resource = None;
             }
             for n in names {
-                if ui.selectable_label(state.resource.as_deref() == Some(n), n).clicked() {
+                if ui.selectable_label(state.resource.as_deref() == Some(n), RichText::new(n).monospace()).clicked() {
                     state.resource = Some(n.to_string());
                 }
             }
