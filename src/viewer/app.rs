@@ -35,6 +35,9 @@ pub const PANEL_WIDTH: f32 = 340.0;
 /// scrolling (logical pixels).
 const MIN_WINDOW_HEIGHT: u32 = 760;
 
+/// Seconds a notice stays over the image.
+const NOTICE_S: f32 = 6.0;
+
 /// Scene seconds per frame in a scripted run (`--frames`).
 pub const SCRIPTED_DT: f32 = 1.0 / 30.0;
 
@@ -63,6 +66,9 @@ pub struct Viewer {
     pending: Option<Pending>,
     /// The error of the last failed rebuild, shown until a good one.
     overlay: Option<String>,
+    /// A short message over the image (the camera line, a viewpoint
+    /// saved), shown for NOTICE_S from when it was set.
+    notice: Option<(String, Instant)>,
     last_reload: Option<String>,
     panel: PanelState,
     options: ViewOptions,
@@ -189,6 +195,7 @@ impl Viewer {
             reloader,
             pending: None,
             overlay: None,
+            notice: None,
             last_reload: None,
             panel,
             scene_path: options.scene.clone(),
@@ -293,14 +300,17 @@ impl Viewer {
             KeyCommand::CopyCamera => {
                 let line = keys::camera_line(camera);
                 println!("{line}");
-                self.egui_ctx.copy_text(line);
+                self.egui_ctx.copy_text(line.clone());
+                self.notice = Some((format!("{line}\n(copied: paste it into the scene file's `camera:`)"), Instant::now()));
             }
-            KeyCommand::SaveView(n) => self.viewpoints.save(&self.scene_path, n, *camera),
-            KeyCommand::RecallView(n) => {
-                if let Some(c) = self.viewpoints.get(&self.scene_path, n) {
-                    *camera = c;
-                }
+            KeyCommand::SaveView(n) => {
+                self.viewpoints.save(&self.scene_path, n, *camera);
+                self.notice = Some((format!("viewpoint {n} saved: {n} returns to it"), Instant::now()));
             }
+            KeyCommand::RecallView(n) => match self.viewpoints.get(&self.scene_path, n) {
+                Some(c) => *camera = c,
+                None => self.notice = Some((format!("no viewpoint {n} for this scene: Ctrl+{n} saves one"), Instant::now())),
+            },
             KeyCommand::Pause => self.frames.paused = !self.frames.paused,
             KeyCommand::Screenshot => self.screenshot_requested = true,
         }
@@ -357,6 +367,8 @@ impl Viewer {
                     self.overlay = None;
                     self.last_reload = Some(format!("opened {} ({} in {ms:.0} ms)", self.scene_path.display(), report.passes_rebuilt()));
                     println!("opened {}", self.scene_path.display());
+                    let shown = crate::reload::relative_to_cwd(&self.scene_path.display().to_string());
+                    self.notice = Some((format!("opened {shown}: its camera and lights, the graph as it was"), Instant::now()));
                     self.refresh_reloader();
                 }
                 Err(e) => self.show_error(format!("{e} (keeping the scene shown)")),
@@ -470,6 +482,10 @@ impl Viewer {
             rebuilding: rebuilding.as_deref(),
             last_reload: self.last_reload.as_deref(),
         };
+        if self.notice.as_ref().is_some_and(|(_, at)| at.elapsed().as_secs_f32() > NOTICE_S) {
+            self.notice = None;
+        }
+        let notice = self.notice.as_ref().map(|(n, _)| n.as_str());
         let (session, panel, overlay, help) = (&self.session, &mut self.panel, &self.overlay, &mut self.help);
         let output = self.egui_ctx.run_ui(raw, |ui| {
             egui::Panel::left("panels").resizable(false).exact_size(PANEL_WIDTH).show(ui, |ui| {
@@ -480,6 +496,11 @@ impl Viewer {
                 if let Some(e) = overlay {
                     egui::Frame::new().fill(egui::Color32::from_black_alpha(200)).inner_margin(8.0).show(ui, |ui| {
                         ui.label(egui::RichText::new(e).color(egui::Color32::from_rgb(255, 120, 100)).monospace());
+                    });
+                }
+                if let Some(n) = notice {
+                    egui::Frame::new().fill(egui::Color32::from_black_alpha(200)).inner_margin(8.0).show(ui, |ui| {
+                        ui.label(egui::RichText::new(n).color(egui::Color32::from_rgb(200, 230, 255)).monospace());
                     });
                 }
             });

@@ -20,26 +20,36 @@ pub const SCENE_CROSSING_S: f32 = 4.0;
 /// Closest the view direction gets to straight up or down (radians).
 const POLE_MARGIN: f32 = 0.02;
 
+/// The fly keys held down.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Keys {
+    /// W: along the view direction.
     pub forward: bool,
+    /// S: against the view direction.
     pub back: bool,
+    /// A: against the right axis.
     pub left: bool,
+    /// D: along the right axis (the view direction cross +y).
     pub right: bool,
+    /// E: along +y.
     pub up: bool,
+    /// Q: along -y.
     pub down: bool,
 }
 
 impl Keys {
+    /// Whether any fly key is held.
     pub fn any(&self) -> bool {
         self.forward || self.back || self.left || self.right || self.up || self.down
     }
 }
 
+/// Fly-mode state: speed and the keys held.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraControl {
     /// Fly speed in scene units per second.
     pub speed: f32,
+    /// The fly keys held now.
     pub keys: Keys,
 }
 

@@ -12,8 +12,11 @@ use crate::scene::Camera;
 /// What a key press asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum KeyCommand {
+    /// Esc: close the viewer.
     Quit,
+    /// F1 or `?`: show or hide the help overlay.
     ToggleHelp,
+    /// Home: back to the scene file's camera.
     ResetCamera,
     /// Print the camera as a scene-file line and copy it.
     CopyCamera,
@@ -21,7 +24,9 @@ pub enum KeyCommand {
     SaveView(usize),
     /// 1..9: go to viewpoint n.
     RecallView(usize),
+    /// P: pause or resume scene time (the camera still moves).
     Pause,
+    /// F12: PNG of the window, EXR of the render.
     Screenshot,
 }
 

@@ -25,15 +25,22 @@ use crate::error::UserError;
 use crate::scene::Scene;
 use app::Viewer;
 
+/// What `glint view` opens and how (the `glint view` arguments).
 #[derive(Debug, Clone)]
 pub struct ViewOptions {
+    /// The scene file (RON).
     pub scene: PathBuf,
+    /// Frame graph to run (None: the machine profile's, from
+    /// passes/machines.ron for this adapter).
     pub graph: Option<PathBuf>,
     /// Render size (before a machine profile's resolution scale).
     pub size: (u32, u32),
+    /// Random seed of every pass's samples (the frame uniform's `seed`).
     pub seed: u32,
     /// Render this many frames, write the screenshot and exit.
     pub frames: Option<u32>,
+    /// Where the screenshot after `frames` goes (PNG; the graph output is
+    /// written beside it as a linear EXR).
     pub screenshot: Option<PathBuf>,
     /// Where F12 writes its screenshots (None: the working folder).
     pub screenshot_dir: Option<PathBuf>,

@@ -22,23 +22,50 @@ use crate::shader::hints::{params_hints, Hint};
 /// What the user asked for this frame.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Action {
-    SetParam { pass: String, name: String, value: ParamValue },
-    SetEnabled { pass: String, enabled: bool },
+    /// Set one param of a pass (`Session::set_param`): applies from the
+    /// next frame without a recompile and restarts accumulation.
+    SetParam {
+        /// The scheduled pass, by name.
+        pass: String,
+        /// The member of the pass's param struct.
+        name: String,
+        /// Its new value, checked against the reflected layout.
+        value: ParamValue,
+    },
+    /// Switch a pass on or off, as `--skip` does (whatever then feeds
+    /// nothing is culled).
+    SetEnabled {
+        /// The pass, by name in the graph.
+        pass: String,
+        /// false: skipped.
+        enabled: bool,
+    },
+    /// Switch to this graph file, as `--graph` runs it: at the requested
+    /// size, without a profile's scale, params or frame-time target.
     SetGraph(PathBuf),
+    /// Switch to this machine profile (an index into
+    /// `PanelState::profiles`): its graph, scale, params and target.
     SetProfile(usize),
     /// Render at `requested` times `scale` (a profile's resolution scale,
     /// or one set by hand).
-    SetSize { requested: (u32, u32), scale: f32 },
+    SetSize {
+        /// Render size before the scale, in pixels.
+        requested: (u32, u32),
+        /// The resolution scale; finite and above 0.
+        scale: f32,
+    },
     /// The frame-time target the noise mask's PID steers to (None: off).
     SetTarget(Option<f64>),
     /// Frames to accumulate before a still image stops rendering (None:
     /// never stop).
     SetSampleTarget(Option<u32>),
+    /// Stop (true) or resume scene time; the camera still moves.
     Pause(bool),
     /// Per-pass wall times on CPU adapters (submits passes one by one).
     Profile(bool),
     /// Read back the reflection-reuse record once (it waits for the frame).
     MeasureReuse,
+    /// Write a screenshot: a PNG of the window, an EXR of the render.
     Screenshot,
 }
 
@@ -47,18 +74,25 @@ pub enum Action {
 pub struct PanelState {
     /// The resource shown in the viewport (None: the graph's output).
     pub resource: Option<String>,
+    /// Viewport exposure in stops (the panel offers -10 to 10): the
+    /// texels are scaled by 2^exposure.
     pub exposure: f32,
+    /// Which channels of the resource the viewport shows.
     pub channel: Channel,
     /// Graph files offered in the selector.
     pub graphs: Vec<PathBuf>,
+    /// Machine profiles offered in the selector.
     pub profiles: Vec<Profile>,
-    /// The profile the adapter matched, and the one running.
+    /// The profile the adapter matched (an index into `profiles`).
     pub matched_profile: Option<usize>,
+    /// The profile running (None: a graph picked by hand).
     pub active_profile: Option<usize>,
     /// The last reflection-reuse measurement, in words.
     pub reuse: Option<String>,
-    /// The size asked for (before the resolution scale) and the scale.
+    /// The render size asked for, before the resolution scale (pixels).
     pub requested: (u32, u32),
+    /// The resolution scale applied to `requested` (the slider offers
+    /// 0.25 to 2).
     pub scale: f32,
     /// The frame-time target being edited (ms), shown while off too.
     target_ms: f64,
@@ -70,6 +104,8 @@ pub struct PanelState {
 }
 
 impl PanelState {
+    /// The start-up state: the graph's output at exposure 0 in RGB, with
+    /// `matched_profile` running.
     pub fn new(graphs: Vec<PathBuf>, profiles: Vec<Profile>, matched_profile: Option<usize>, requested: (u32, u32), scale: f32) -> PanelState {
         PanelState {
             resource: None,
@@ -104,6 +140,7 @@ impl PanelState {
 
 /// Everything the panels show besides the session.
 pub struct PanelInput<'a> {
+    /// The frame loop: accumulation, scene time, targets, pass times.
     pub frames: &'a FrameLoop,
     /// Frames per second over the recent presents (None before two).
     pub fps: Option<f64>,
@@ -111,10 +148,14 @@ pub struct PanelInput<'a> {
     pub frame_plot: &'a [egui_plot::PlotPoint],
     /// The fly speed, scene units per second.
     pub fly_speed: f32,
+    /// What is being rebuilt off the presenting thread now, if anything.
     pub rebuilding: Option<&'a str>,
+    /// The last reload, switch or scene opened, in words (None: none yet).
     pub last_reload: Option<&'a str>,
 }
 
+/// Draws the side panel's sections into `ui`; returns what the user asked
+/// for this frame, in order.
 pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelState) -> Vec<Action> {
     let mut actions = Vec::new();
     egui::ScrollArea::vertical().show(ui, |ui| {

@@ -52,19 +52,26 @@ fn fs(@builtin(position) pos: vec4f) -> @location(0) vec4f {
 /// Which channels of the texture to show.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Channel {
+    /// The colour as it is.
     #[default]
     Rgb,
+    /// Red, as grey.
     R,
+    /// Green, as grey.
     G,
+    /// Blue, as grey.
     B,
+    /// Alpha, as grey.
     A,
 }
 
 impl Channel {
+    /// Every channel, in the panel's order.
     pub const ALL: [Channel; 5] = [Channel::Rgb, Channel::R, Channel::G, Channel::B, Channel::A];
     fn index(self) -> u32 {
         self as u32
     }
+    /// The panel's name for it ("rgb", "r", ...).
     pub fn label(self) -> &'static str {
         ["rgb", "r", "g", "b", "a"][self as usize]
     }
@@ -85,6 +92,8 @@ struct Variant {
     layout: wgpu::BindGroupLayout,
 }
 
+/// The present pass's pipelines (float and uint textures) and view
+/// uniform, for one target format.
 pub struct Present {
     float: Variant,
     uint: Variant,
@@ -139,13 +148,19 @@ fn variant(device: &wgpu::Device, target: wgpu::TextureFormat, uint: bool) -> Va
 /// A rectangle of the window in physical pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rect {
+    /// Left edge.
     pub x: f32,
+    /// Top edge (y grows down).
     pub y: f32,
+    /// Width; under 1 draws nothing.
     pub w: f32,
+    /// Height; under 1 draws nothing.
     pub h: f32,
 }
 
 impl Present {
+    /// Builds the pass for `target`, a non-sRGB format (the pass encodes
+    /// sRGB itself); an error if the device refuses it.
     pub fn new(device: &wgpu::Device, target: wgpu::TextureFormat) -> Result<Present, UserError> {
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let present = Present {

@@ -14,6 +14,8 @@ const FPS_FRAMES: usize = 60;
 /// Intervals kept for the plot and the reload reports.
 const KEPT: usize = 300;
 
+/// The times the viewer's frames were presented (the last 300), and the
+/// rates and intervals the panel shows from them.
 #[derive(Debug, Default)]
 pub struct Presents {
     /// When each of the last frames was presented.
