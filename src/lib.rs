@@ -7,6 +7,8 @@
 //! owns all of it, rebuilds aside and swaps on success; every front end
 //! (the CLI, the viewer, the tests) renders through it.
 
+#![warn(missing_docs)]
+
 pub mod bvh;
 pub mod camera_path;
 #[cfg(test)]

@@ -18,6 +18,9 @@ pub const MAX_PRIVATE_BYTES: u64 = 64 * 1024;
 /// glint runs on offers.
 pub const MAX_WORKGROUP_BYTES: u64 = 16 * 1024;
 
+/// Refuses a shader whose private and function variables are over
+/// [`MAX_PRIVATE_BYTES`] (at the biggest of them) or whose workgroup
+/// variables are over [`MAX_WORKGROUP_BYTES`] (at the one that crosses it).
 pub fn check(source: &ShaderSource, module: &naga::Module) -> Result<(), UserError> {
     let mut layouter = Layouter::default();
     // A type the layouter cannot size has already failed validation.

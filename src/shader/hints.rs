@@ -21,14 +21,20 @@
 
 use std::collections::BTreeMap;
 
+/// One member's `// ui:` annotation.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Hint {
+    /// `MIN..MAX`: a slider's range.
     pub range: Option<(f64, f64)>,
+    /// `log`: the slider is logarithmic.
     pub log: bool,
+    /// `bool`: a u32 shown as a checkbox.
     pub checkbox: bool,
+    /// `color`: a vec3f shown as a colour picker.
     pub color: bool,
     /// The range is enforced, not just the slider's.
     pub limit: bool,
+    /// A quoted string: the label shown instead of the member's name.
     pub label: Option<String>,
 }
 

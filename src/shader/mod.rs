@@ -5,6 +5,10 @@ pub mod budget;
 pub mod hints;
 pub mod reflect;
 pub mod source;
+pub mod validation_words;
+
+#[cfg(test)]
+mod validation_tests;
 
 use std::path::Path;
 
@@ -18,9 +22,13 @@ pub use source::ShaderSource;
 /// A parsed, validated and reflected shader.
 #[derive(Debug, Clone)]
 pub struct Shader {
+    /// The expanded source, with its map back to the original files.
     pub source: ShaderSource,
+    /// naga's IR of it.
     pub module: naga::Module,
+    /// What naga's validator found out (expression types, global uses).
     pub module_info: ModuleInfo,
+    /// The reflection the frame graph works on.
     pub info: ShaderInfo,
 }
 
@@ -51,16 +59,8 @@ pub fn from_source(source: ShaderSource) -> Result<Shader, UserError> {
     let module_info = Validator::new(ValidationFlags::all(), capabilities())
         .validate(&module)
         .map_err(|e| {
-            let loc = e
-                .spans()
-                .next()
-                .map(|(span, _)| source.span_location(*span))
-                .unwrap_or_else(|| source.original(0, 0));
-            let mut msg = format!("WGSL validation error: {}", error_chain(e.as_inner()));
-            for (_, label) in e.spans().filter(|(_, l)| !l.is_empty()) {
-                msg.push_str(&format!("; {label}"));
-            }
-            UserError::at(loc, msg)
+            let worded = validation_words::word(&module, &source.text, &e);
+            UserError::at(source.span_location(worded.span), format!("WGSL validation error: {}", worded.message))
         })?;
     budget::check(&source, &module)?;
     let info = reflect_module(&source, &module, &module_info)?;
@@ -70,17 +70,6 @@ pub fn from_source(source: ShaderSource) -> Result<Shader, UserError> {
 /// The capabilities our passes may use (all are available on lavapipe).
 pub fn capabilities() -> Capabilities {
     Capabilities::SUBGROUP | Capabilities::SHADER_INT64
-}
-
-fn error_chain(e: &dyn std::error::Error) -> String {
-    let mut s = e.to_string();
-    let mut cur = e.source();
-    while let Some(inner) = cur {
-        s.push_str(": ");
-        s.push_str(&inner.to_string());
-        cur = inner.source();
-    }
-    s
 }
 
 fn reflect_module(src: &ShaderSource, module: &naga::Module, info: &ModuleInfo) -> Result<ShaderInfo, UserError> {
@@ -158,6 +147,8 @@ fn binding_kind(module: &naga::Module, var: &naga::GlobalVariable) -> Result<Bin
     }
 }
 
+/// The graph texture format of a storage texture format; None for the
+/// formats glint graphs do not support.
 pub fn tex_format(f: naga::StorageFormat) -> Option<TexFormat> {
     use naga::StorageFormat as S;
     Some(match f {

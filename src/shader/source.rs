@@ -14,6 +14,8 @@ use crate::error::{Location, UserError};
 pub struct ShaderSource {
     /// The pass shader's file name, relative to the shader directory.
     pub name: String,
+    /// The expanded text naga parses: the shader with its imports inlined
+    /// (each `#import` line kept, commented out).
     pub text: String,
     /// For each line of `text` (0-based): (index into `files`, 1-based line).
     line_map: Vec<(usize, usize)>,
