@@ -62,8 +62,33 @@ impl Gpu {
         Self::with_instance(instance, None).await
     }
 
+    /// Another device on the same adapter, with its own queue: work on
+    /// one does not wait for work on the other (the viewer renders the
+    /// scene on one and its window on the other). It comes from an instance
+    /// of its own: lavapipe's devices on one instance share its screen, and
+    /// a window frame waited for a scene frame on the other device.
+    pub fn second_device(&self) -> Result<Gpu, UserError> {
+        pollster::block_on(async {
+            let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+            let same = |a: &wgpu::Adapter| {
+                let i = a.get_info();
+                (i.name == self.info.name && i.backend == self.info.backend && i.device_type == self.info.device_type)
+                    && (i.vendor, i.device) == (self.info.vendor, self.info.device)
+            };
+            let found = instance.enumerate_adapters(wgpu::Backends::from(self.info.backend)).await.into_iter().find(same);
+            match found {
+                Some(adapter) => Self::with_adapter(instance, adapter).await,
+                None => Self::with_adapter(self.instance.clone(), self.adapter.clone()).await,
+            }
+        })
+    }
+
     async fn with_instance(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Gpu, UserError> {
         let adapter = pick_adapter(&instance, surface).await?;
+        Self::with_adapter(instance, adapter).await
+    }
+
+    async fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Gpu, UserError> {
         let info = adapter.get_info();
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES

@@ -23,6 +23,16 @@ use crate::graph::runs::{RunGpu, RunState, RUN_BYTES};
 use crate::graph::schedule::*;
 use crate::graph::tile_pool;
 
+/// What records after a frame's passes, in its command encoder
+/// (`Executor::run_frame_with`).
+pub struct FrameHook<'a> {
+    /// The resource whose final version it gets (None, or a name the
+    /// schedule lacks: the output).
+    pub resource: Option<&'a str>,
+    /// Records into the encoder, given the texture and its format.
+    pub record: &'a mut dyn FnMut(&mut wgpu::CommandEncoder, &wgpu::Texture, TexFormat),
+}
+
 /// How a frame is timed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Timing {
@@ -532,6 +542,15 @@ impl Executor {
     /// earlier frames whose timestamps have arrived (possibly none), never
     /// waiting. A pass that did not run is absent from its frame's timings.
     pub fn run_frame(&mut self, gpu: &Gpu, timing: Timing, epoch: u32) -> Vec<PassTimings> {
+        self.run_frame_with(gpu, timing, epoch, None)
+    }
+
+    /// `run_frame`, and `hook` records what follows the frame into its
+    /// last command encoder: it gets the frame's output, or the final
+    /// version of the resource named (a viewer copies what it shows). In the
+    /// same submission, as a CPU driver makes a second submission wait for
+    /// the first to finish.
+    pub fn run_frame_with(&mut self, gpu: &Gpu, timing: Timing, epoch: u32, mut hook: Option<FrameHook<'_>>) -> Vec<PassTimings> {
         self.frame += 1;
         let plan = self.plan_runs(gpu, epoch);
         let mut ready = Vec::new();
@@ -550,6 +569,11 @@ impl Executor {
                 gpu.wait();
                 passes.push((self.schedule.passes[i].name.clone(), start.elapsed().as_secs_f64() * 1e3));
             }
+            if let Some(h) = &mut hook {
+                let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("after the frame") });
+                self.run_hook(&mut enc, h);
+                gpu.queue.submit([enc.finish()]);
+            }
             ready.push(PassTimings { frame: self.frame, passes });
         } else {
             let timed = timing == Timing::Gpu && self.timer.as_mut().is_some_and(|t| t.begin_frame());
@@ -564,6 +588,9 @@ impl Executor {
                 if let Some(t) = &mut self.timer {
                     t.resolve(&mut enc, self.frame, plan.iter().map(|&(count, _)| count > 0).collect());
                 }
+            }
+            if let Some(h) = &mut hook {
+                self.run_hook(&mut enc, h);
             }
             gpu.queue.submit([enc.finish()]);
             if timed {
@@ -595,6 +622,14 @@ impl Executor {
                 passes: self.schedule.passes.iter().zip(s.ms).filter_map(|(p, ms)| Some((p.name.clone(), ms?))).collect(),
             })
             .collect()
+    }
+
+    /// Calls a frame hook with this frame's texture (before the parity flips).
+    fn run_hook(&self, enc: &mut wgpu::CommandEncoder, hook: &mut FrameHook<'_>) {
+        let shown = hook.resource.and_then(|r| self.final_texture(r, self.parity));
+        let output = (&self.textures[self.schedule.output.resolve(self.parity)].texture, self.schedule.output_format);
+        let (texture, format) = shown.unwrap_or(output);
+        (hook.record)(enc, texture, format);
     }
 
     /// The parity the last frame used (`run_frame` already flipped it).
@@ -633,8 +668,13 @@ impl Executor {
     /// frame (for viewers: pooled transients may since hold another
     /// resource; kept and history ones do not).
     pub fn resource_texture(&self, resource: &str) -> Option<(&wgpu::Texture, TexFormat)> {
+        self.final_texture(resource, self.last_parity())
+    }
+
+    /// A resource's final version in the frame of `parity`.
+    fn final_texture(&self, resource: &str, parity: u8) -> Option<(&wgpu::Texture, TexFormat)> {
         let v = self.schedule.versions.iter().filter(|v| v.resource == resource).max_by_key(|v| v.version)?;
-        let index = v.texture.resolve(self.last_parity());
+        let index = v.texture.resolve(parity);
         let format = self.schedule.textures.get(index)?.format;
         Some((&self.textures.get(index)?.texture, format))
     }

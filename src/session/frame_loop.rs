@@ -9,7 +9,7 @@ use std::time::Instant;
 use crate::camera_path::CameraPath;
 use crate::control::{Pid, PidConfig};
 use crate::error::UserError;
-use crate::graph::executor::{PassTimings, Timing};
+use crate::graph::executor::{FrameHook, PassTimings, Timing};
 use crate::metrics::median;
 use crate::scene::Camera;
 use crate::session::{Session, DEFAULT_MASK_THRESHOLD};
@@ -142,6 +142,12 @@ impl FrameLoop {
     /// Renders one frame: camera from the path, the frame, the PID update
     /// from the measured time, statistics; then advances the clock.
     pub fn step(&mut self, session: &mut Session) -> FrameReport {
+        self.step_with(session, None)
+    }
+
+    /// `step`, with `hook` recorded after the frame's passes (see
+    /// `Session::frame_with`); not called when the step renders nothing.
+    pub fn step_with(&mut self, session: &mut Session, hook: Option<FrameHook<'_>>) -> FrameReport {
         let now = Instant::now();
         self.converged = self.camera_path.is_none() && self.sample_target.is_some_and(|n| session.accumulated() >= n) && session.still();
         if self.converged {
@@ -160,7 +166,7 @@ impl FrameLoop {
             session.scene.scene.camera = path.at(&self.base_camera, self.time);
         }
         let time = self.time;
-        let timings = session.frame(time);
+        let timings = session.frame_with(time, hook);
         let wall_ms = now.elapsed().as_secs_f64() * 1e3;
         self.stats.frame_ms.push(wall_ms);
         for t in &timings {

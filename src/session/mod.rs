@@ -25,7 +25,7 @@ use crate::gpu::readback::ImageF32;
 use crate::gpu::Gpu;
 use crate::graph::desc::ParamValue;
 use crate::graph::edit::ParamSet;
-use crate::graph::executor::{Executor, PassTimings, Timing};
+use crate::graph::executor::{Executor, FrameHook, PassTimings, Timing};
 use crate::graph::pipelines::PipelineCache;
 use crate::graph::tile_pool;
 use crate::graph::{self, CompileOptions, CompiledGraph};
@@ -218,6 +218,12 @@ impl Session {
     /// Renders one frame at absolute scene time `time` seconds. Returns the
     /// per-pass timings that are ready (see `Executor::run_frame`).
     pub fn frame(&mut self, time: f32) -> Vec<PassTimings> {
+        self.frame_with(time, None)
+    }
+
+    /// `frame`, with `hook` recorded after the frame's passes in the same
+    /// submission (`Executor::run_frame_with`).
+    pub fn frame_with(&mut self, time: f32, hook: Option<FrameHook<'_>>) -> Vec<PassTimings> {
         self.release_retired();
         let world_camera = self.scene.scene.camera;
         self.scene.update(&self.gpu.queue, time, world_camera.position);
@@ -273,7 +279,7 @@ impl Session {
         // pipelines (as a specialisation: not with --no-specialise).
         let still = bytemuck::bytes_of(&frame.camera) == bytemuck::bytes_of(&frame.prev_camera);
         self.executor.camera_still = still && self.executor.schedule.specialise;
-        let timings = self.executor.run_frame(&self.gpu, self.timing, epoch);
+        let timings = self.executor.run_frame_with(&self.gpu, self.timing, epoch, hook);
         st.last = Some((world_camera, epoch));
         st.frame_index = st.frame_index.wrapping_add(1);
         st.accum_count = st.accum_count.saturating_add(1);

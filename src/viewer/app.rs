@@ -12,7 +12,7 @@ use winit::window::Window;
 
 use crate::error::UserError;
 use crate::gpu::Gpu;
-use crate::graph::executor::Timing;
+use crate::graph::executor::{FrameHook, Timing};
 use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
 use crate::session::{Session, SessionOptions};
 use crate::stats::{ReuseShare, REFLECT_REUSE};
@@ -22,6 +22,7 @@ use crate::viewer::background::{After, Pending};
 use crate::viewer::camera::{self, CameraControl};
 use crate::viewer::keys::{self, KeyCommand, Viewpoints};
 use crate::viewer::panels::{self, Action, PanelInput, PanelState};
+use crate::viewer::mirror::Mirror;
 use crate::viewer::present::{Present, Rect};
 use crate::viewer::presents::Presents;
 use crate::viewer::reloader::Reloader;
@@ -34,6 +35,9 @@ pub const PANEL_WIDTH: f32 = 340.0;
 /// The window's least height: the side panel's sections fit without
 /// scrolling (logical pixels).
 const MIN_WINDOW_HEIGHT: u32 = 760;
+
+/// Milliseconds between window frames while a scene frame is running.
+const UI_WHILE_RENDERING_MS: u64 = 40;
 
 /// Seconds a notice stays over the image.
 const NOTICE_S: f32 = 6.0;
@@ -52,8 +56,19 @@ pub struct Viewer {
     pub window: Arc<Window>,
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
+    /// The window's device: the surface, egui and the present pass.
+    ui: Gpu,
+    /// The scene's device (the session's), another on the same adapter.
     gpu: Gpu,
     pub session: Session,
+    /// The scene's latest finished image, on the window's device.
+    mirror: Mirror,
+    /// The session generation of the frame in flight and of the image
+    /// shown (a reload line waits for an image of the new state).
+    flight_generation: u64,
+    shown_generation: u64,
+    /// When the window last presented.
+    last_ui: Instant,
     frames: FrameLoop,
     egui_ctx: egui::Context,
     egui_state: egui_winit::State,
@@ -84,9 +99,12 @@ pub struct Viewer {
     /// Why a scripted run failed (an unwritable screenshot): the exit code.
     pub failure: Option<UserError>,
     screenshot_requested: bool,
+    /// The screenshots F12 wrote this run (none is overwritten).
+    screenshots: Vec<PathBuf>,
     /// A reload line printed once the first frame with the new state has
-    /// been presented (what "save to new image" latency is measured to).
-    announce: Option<String>,
+    /// been presented (what "save to new image" latency is measured to),
+    /// with the session generation that state has.
+    announce: Option<(String, u64)>,
     /// The viewport rectangle of the last frame (physical pixels).
     viewport: Rect,
     /// The area beside the panel, in egui points, as the last frame laid it out.
@@ -112,9 +130,10 @@ impl Viewer {
         let surface = instance
             .create_surface(Arc::clone(&window))
             .map_err(|e| UserError::new(format!("cannot draw into the window: {e}")))?;
-        let gpu = Gpu::for_surface(instance, &surface)?;
+        let ui = Gpu::for_surface(instance, &surface)?;
+        let gpu = ui.second_device()?;
         window.set_title(&format!("glint: {} ({})", options.scene.display(), gpu.info.name));
-        let caps = surface.get_capabilities(&gpu.adapter);
+        let caps = surface.get_capabilities(&ui.adapter);
         let format = pick_format(&caps).ok_or_else(|| UserError::new(format!("{} offers no 8-bit surface format for the window", gpu.describe())))?;
         let size = window.inner_size();
         let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
@@ -132,7 +151,7 @@ impl Viewer {
             alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
             view_formats: vec![],
         };
-        surface.configure(&gpu.device, &config);
+        surface.configure(&ui.device, &config);
 
         let choice = crate::machines::choose(&gpu, options.graph.as_deref())?;
         let mut session_options = SessionOptions::new(options.size);
@@ -158,10 +177,10 @@ impl Viewer {
             &window,
             Some(window.scale_factor() as f32),
             None,
-            Some(gpu.max_texture_side() as usize),
+            Some(ui.max_texture_side() as usize),
         );
-        let egui_renderer = egui_wgpu::Renderer::new(&gpu.device, format, egui_wgpu::RendererOptions::default());
-        let present = Present::new(&gpu.device, format)?;
+        let egui_renderer = egui_wgpu::Renderer::new(&ui.device, format, egui_wgpu::RendererOptions::default());
+        let present = Present::new(&ui.device, format)?;
         // A scripted run (--frames) renders and exits: nothing to watch.
         let reloader = match Reloader::start(&session) {
             _ if options.frames.is_some() => None,
@@ -183,6 +202,7 @@ impl Viewer {
             window,
             surface,
             config,
+            ui,
             gpu,
             session,
             frames,
@@ -207,7 +227,12 @@ impl Viewer {
             viewpoints: Viewpoints::default(),
             failure: None,
             screenshot_requested: false,
+            screenshots: Vec::new(),
             announce: None,
+            mirror: Mirror::default(),
+            flight_generation: 0,
+            shown_generation: 0,
+            last_ui: Instant::now(),
             viewport: Rect { x: 0.0, y: 0.0, w: 0.0, h: 0.0 },
             central: egui::Rect::NOTHING,
             done: false,
@@ -220,7 +245,7 @@ impl Viewer {
             WindowEvent::Resized(size) => {
                 self.config.width = size.width.max(1);
                 self.config.height = size.height.max(1);
-                self.surface.configure(&self.gpu.device, &self.config);
+                self.surface.configure(&self.ui.device, &self.config);
             }
             WindowEvent::ModifiersChanged(m) => self.modifiers = m.state(),
             WindowEvent::KeyboardInput { event, .. } if !response.consumed => {
@@ -352,7 +377,7 @@ impl Viewer {
                     let gap = self.presents.longest_gap_since(pending.started, Instant::now());
                     let line = format!("switched to {}: {} in {ms:.0} ms (longest gap between frames {gap:.0} ms)", commit.what, report.passes_rebuilt());
                     let line = crate::reload::relative_to_cwd(&line);
-                    self.announce = Some(line.clone());
+                    self.announce = Some((line.clone(), self.session.generation));
                     self.last_reload = Some(line);
                     self.refresh_reloader();
                 }
@@ -440,7 +465,7 @@ impl Viewer {
                     self.presents.frame_ms_before(finished.started)
                 );
                 let line = crate::reload::relative_to_cwd(&line);
-                self.announce = Some(line.clone());
+                self.announce = Some((line.clone(), self.session.generation));
                 self.last_reload = Some(line);
                 self.overlay = None;
             }
@@ -463,9 +488,29 @@ impl Viewer {
         self.poll_reload();
         self.poll_pending();
         self.control.fly(&mut self.session.scene.scene.camera, dt.min(0.25));
-        self.frames.step(&mut self.session);
-        if let Some(e) = self.gpu.uncaptured.lock().ok().and_then(|mut l| l.pop()) {
-            self.show_error(format!("GPU error: {e}"));
+        // The scene: take in an image that arrived, then start the next
+        // frame unless one is running. A scripted run waits for each
+        // frame, so its Nth present shows the Nth frame.
+        let scripted = self.options.frames.is_some();
+        let mut arrived = self.take_scene_image(false);
+        if !self.mirror.busy() {
+            let (mirror, device) = (&mut self.mirror, &self.gpu.device);
+            let mut record = |enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, format| mirror.record(device, enc, texture, format);
+            let hook = FrameHook { resource: self.panel.resource.as_deref(), record: &mut record };
+            self.frames.step_with(&mut self.session, Some(hook));
+            self.mirror.submitted();
+            if self.mirror.busy() {
+                self.flight_generation = self.session.generation;
+                if scripted {
+                    arrived |= self.take_scene_image(true);
+                }
+            }
+        }
+        for gpu in [&self.gpu, &self.ui] {
+            if let Some(e) = gpu.uncaptured.lock().ok().and_then(|mut l| l.pop()) {
+                self.overlay = Some(format!("GPU error: {e}"));
+                eprintln!("error: GPU error: {e}");
+            }
         }
 
         let raw = self.egui_state.take_egui_input(&self.window);
@@ -525,18 +570,18 @@ impl Viewer {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t) | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                self.surface.configure(&self.gpu.device, &self.config);
+                self.surface.configure(&self.ui.device, &self.config);
                 return;
             }
             _ => return,
         };
         let target = frame.texture.create_view(&Default::default());
-        let device = &self.gpu.device;
-        let queue = &self.gpu.queue;
+        let device = &self.ui.device;
+        let queue = &self.ui.queue;
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("present") });
-        let shown = self.panel.resource.as_deref().and_then(|r| self.session.executor.resource_texture(r));
-        let (texture, format) = shown.unwrap_or((self.session.executor.output_texture(), self.session.executor.schedule.output_format));
-        self.present.draw(device, queue, &mut enc, &target, texture, format, self.viewport, self.panel.exposure, self.panel.channel);
+        if let Some((texture, format)) = self.mirror.shown() {
+            self.present.draw(device, queue, &mut enc, &target, texture, format, self.viewport, self.panel.exposure, self.panel.channel);
+        }
         for (id, deltas) in &output.textures_delta.set {
             for delta in deltas {
                 self.egui_renderer.update_texture(device, queue, *id, delta);
@@ -567,24 +612,51 @@ impl Viewer {
         for id in &output.textures_delta.free {
             self.egui_renderer.free_texture(id);
         }
-        self.presents.push(Instant::now());
-        if self.options.frames.is_some() && self.presents.count() == 1 {
-            // A scripted run's first frame: what a test times the rest from.
-            println!("first frame presented");
+        self.last_ui = Instant::now();
+        if arrived {
+            // The FPS, the plot and the gaps count the scene's frames.
+            self.presents.push(self.last_ui);
+            if scripted && self.presents.count() == 1 {
+                // A scripted run's first frame: what a test times the rest from.
+                println!("first frame presented");
+            }
+            if let Some(r) = &self.reloader {
+                r.presented();
+            }
         }
-        if let Some(r) = &self.reloader {
-            r.presented();
-        }
-        if let Some(line) = self.announce.take() {
-            // The frame rendered after the swap was just presented.
+        if self.announce.as_ref().is_some_and(|(_, g)| self.shown_generation >= *g) {
+            // The first frame rendered after the swap was just presented.
             use std::io::Write as _;
             let mut out = std::io::stdout().lock();
-            let _ = writeln!(out, "{line}");
+            let _ = writeln!(out, "{}", self.announce.take().map(|(l, _)| l).unwrap_or_default());
             let _ = out.flush();
         }
         if let Some(capture) = capture {
             self.save_screenshot(capture);
         }
+    }
+
+    /// Takes in the scene's image if it arrived (with `wait`, waits for
+    /// it): true when a new one is shown.
+    fn take_scene_image(&mut self, wait: bool) -> bool {
+        match self.mirror.poll(&self.gpu, &self.ui, wait) {
+            Ok(true) => {
+                self.shown_generation = self.flight_generation;
+                true
+            }
+            Ok(false) => false,
+            Err(e) => {
+                self.show_error(e.to_string());
+                false
+            }
+        }
+    }
+
+    /// When the window should next redraw: now (None) while scene frames
+    /// keep coming; while one is running, at a steady rate that keeps the
+    /// panel live without taking the cores the frame needs.
+    pub fn next_redraw(&self) -> Option<Instant> {
+        (self.mirror.busy() && self.options.frames.is_none()).then(|| self.last_ui + std::time::Duration::from_millis(UI_WHILE_RENDERING_MS))
     }
 
     fn wants_screenshot(&self) -> bool {
@@ -603,10 +675,18 @@ impl Viewer {
         }
         let png = match (&self.options.screenshot, last) {
             (Some(p), true) => p.clone(),
-            _ => self.options.screenshot_dir.clone().unwrap_or_default().join(format!("glint-screenshot-{presented}.png")),
+            _ => {
+                // N: the scene frames shown; a second shot of the same frame gets a suffix.
+                let dir = self.options.screenshot_dir.clone().unwrap_or_default();
+                let name = |k: u32| if k == 0 { format!("glint-screenshot-{presented}.png") } else { format!("glint-screenshot-{presented}-{k}.png") };
+                let k = (0..).find(|k| !self.screenshots.contains(&dir.join(name(*k)))).unwrap_or(0);
+                let png = dir.join(name(k));
+                self.screenshots.push(png.clone());
+                png
+            }
         };
         let result = match capture {
-            Some(c) => screenshot::save(&self.gpu, c, self.config.format, &png, &self.session, self.viewport),
+            Some(c) => screenshot::save(&self.ui, c, self.config.format, &png, &self.session, self.viewport),
             None => Err(UserError::new("this surface cannot be copied from (no COPY_SRC); no screenshot")),
         };
         match result {

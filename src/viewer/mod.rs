@@ -6,6 +6,7 @@
 pub mod actions;
 mod app;
 mod background;
+mod mirror;
 pub mod camera;
 pub mod keys;
 pub mod panels;
@@ -92,10 +93,16 @@ impl ApplicationHandler for App {
         }
     }
 
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         // Render continuously: accumulation and moving lights need frames.
-        if let Some(v) = &self.viewer {
-            v.window.request_redraw();
+        // While a scene frame runs, the window redraws at a steady rate.
+        let Some(v) = &self.viewer else { return };
+        match v.next_redraw() {
+            Some(at) if at > std::time::Instant::now() => event_loop.set_control_flow(ControlFlow::WaitUntil(at)),
+            _ => {
+                event_loop.set_control_flow(ControlFlow::Poll);
+                v.window.request_redraw();
+            }
         }
     }
 }
