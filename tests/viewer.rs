@@ -282,3 +282,35 @@ fn a_dropped_scene_file_opens() {
     assert!(stdout.lines().any(|l| l.starts_with("title: glint: ") && l.contains("cornell-point.ron")), "the title names it: {stdout}");
     assert!(stdout.lines().any(|l| l == "exit 0"), "Esc quits with exit 0: {stdout}");
 }
+
+#[test]
+fn the_panel_stays_live_while_a_frame_renders() {
+    // Path-traced frames of thesis-env2 take a second or more on lavapipe;
+    // the window's own frames go on between them.
+    let script = r#"
+        "$GLINT" view scenes/thesis-env2.ron --graph passes/pathtrace.ron --size 480x270 &
+        pid=$!
+        for i in $(seq 120); do wid=$(xdotool search --name "glint:" 2>/dev/null | head -1); [ -n "$wid" ] && break; sleep 0.5; done
+        sleep 8
+        xdotool windowfocus "$wid"; sleep 0.3
+        xdotool key Escape
+        wait $pid
+        echo "exit $?"
+    "#;
+    let Some(out) = under_xvfb(script) else { return };
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let line = stdout.lines().find(|l| l.starts_with("window: ")).unwrap_or_else(|| panic!("no summary line: {stdout}\n{}", String::from_utf8_lossy(&out.stderr)));
+    let figure = |key: &str| -> f64 {
+        let after = line.split(key).nth(1).unwrap_or_else(|| panic!("no `{key}` in `{line}`"));
+        after.trim_start().split([' ', ',', ';']).next().and_then(|s| s.parse().ok()).unwrap_or_else(|| panic!("no figure after `{key}` in `{line}`"))
+    };
+    let (window_gap, scene_frames, scene_ms) = (figure("longest gap"), figure("scene:"), figure("median"));
+    eprintln!("{line}");
+    assert!(scene_frames >= 2.0, "the scene presented frames: {line}");
+    if scene_ms < 600.0 {
+        eprintln!("scene frames of {scene_ms} ms are too fast here to show a slow frame");
+        return;
+    }
+    assert!(window_gap < 0.5 * scene_ms, "the window waited for the scene's frames: {line}");
+    assert!(stdout.lines().any(|l| l == "exit 0"), "Esc quits with exit 0: {stdout}");
+}

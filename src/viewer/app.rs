@@ -69,6 +69,10 @@ pub struct Viewer {
     shown_generation: u64,
     /// When the window last presented.
     last_ui: Instant,
+    /// Window frames presented, and the longest time between two after
+    /// the first scene image (milliseconds).
+    ui_frames: u64,
+    ui_longest_gap_ms: f64,
     frames: FrameLoop,
     egui_ctx: egui::Context,
     egui_state: egui_winit::State,
@@ -233,6 +237,8 @@ impl Viewer {
             flight_generation: 0,
             shown_generation: 0,
             last_ui: Instant::now(),
+            ui_frames: 0,
+            ui_longest_gap_ms: 0.0,
             viewport: Rect { x: 0.0, y: 0.0, w: 0.0, h: 0.0 },
             central: egui::Rect::NOTHING,
             done: false,
@@ -612,7 +618,12 @@ impl Viewer {
         for id in &output.textures_delta.free {
             self.egui_renderer.free_texture(id);
         }
-        self.last_ui = Instant::now();
+        let now = Instant::now();
+        if self.presents.count() > 0 {
+            self.ui_longest_gap_ms = self.ui_longest_gap_ms.max(now.duration_since(self.last_ui).as_secs_f64() * 1e3);
+        }
+        self.last_ui = now;
+        self.ui_frames += 1;
         if arrived {
             // The FPS, the plot and the gaps count the scene's frames.
             self.presents.push(self.last_ui);
@@ -657,6 +668,18 @@ impl Viewer {
     /// panel live without taking the cores the frame needs.
     pub fn next_redraw(&self) -> Option<Instant> {
         (self.mirror.busy() && self.options.frames.is_none()).then(|| self.last_ui + std::time::Duration::from_millis(UI_WHILE_RENDERING_MS))
+    }
+
+    /// What the window and the scene presented, for the line printed at
+    /// exit: how live the panel stayed while the scene's frames ran.
+    pub fn summary(&self) -> String {
+        format!(
+            "window: {} frames, longest gap {:.0} ms; scene: {} frames, median {:.0} ms",
+            self.ui_frames,
+            self.ui_longest_gap_ms,
+            self.presents.count(),
+            self.presents.median_ms(30)
+        )
     }
 
     fn wants_screenshot(&self) -> bool {

@@ -123,5 +123,8 @@ pub fn run(options: ViewOptions) -> Result<(), UserError> {
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App { options, scene: Some(scene), viewer: None, result: Ok(()) };
     event_loop.run_app(&mut app).map_err(|e| UserError::new(format!("the window's event loop failed: {e}")))?;
+    if let Some(v) = &app.viewer {
+        println!("{}", v.summary());
+    }
     app.result
 }
