@@ -27,8 +27,13 @@ const DEFAULT_MATERIAL: MaterialGpu = MaterialGpu {
     roughness: 1.0,
 };
 
-/// Reads, parses and checks a scene file; OBJ paths are relative to its folder.
+/// Reads, parses and checks a scene file; OBJ paths are relative to its
+/// folder. An `.obj` file opens as a scene of its own (a framing camera and
+/// a default light: `obj_scene`).
 pub fn load(path: &Path) -> Result<Scene, UserError> {
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")) {
+        return super::obj_scene::open_obj(path);
+    }
     let text = std::fs::read_to_string(path)
         .map_err(|e| UserError::in_file(path, format!("cannot read the scene file: {e}")))?;
     parse(&text, path)

@@ -19,6 +19,7 @@ mod load;
 mod locate;
 mod more_lights;
 mod obj;
+mod obj_scene;
 pub mod origins;
 mod pack;
 mod schema;

@@ -45,8 +45,8 @@ pub enum Step {
 
 /// Applies a session-level action. `requested` is the size asked for on
 /// the command line (a profile's resolution scale applies to it). Returns
-/// the rebuild's report when one ran. Screenshots are the window's, not
-/// the session's: they are ignored here.
+/// the rebuild's report when one ran. Screenshots and opening a scene are
+/// the window's, not the session's: they are ignored here.
 pub fn apply(session: &mut Session, frames: &mut FrameLoop, profiles: &[Profile], requested: (u32, u32), action: &Action) -> Result<Option<ReloadReport>, UserError> {
     match start(session, frames, profiles, requested, action)? {
         Step::Done(report) => Ok(report),
@@ -105,7 +105,7 @@ pub fn start(session: &mut Session, frames: &mut FrameLoop, profiles: &[Profile]
             frames.stats.last.clear();
             Ok(Step::Done(None))
         }
-        Action::Screenshot | Action::MeasureReuse => Ok(Step::Done(None)),
+        Action::Screenshot | Action::MeasureReuse | Action::OpenScene(_) => Ok(Step::Done(None)),
     }
 }
 

@@ -352,8 +352,8 @@ impl Viewer {
     /// fails to load leaves the running scene as it was, with the error in
     /// the overlay.
     fn open_scene(&mut self, path: PathBuf) {
-        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ron")) {
-            let hint = "a scene is a .ron file; an OBJ mesh goes into one as an object (docs/scenes.md)";
+        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ron") || e.eq_ignore_ascii_case("obj")) {
+            let hint = "the viewer opens a .ron scene file or an .obj mesh (docs/scenes.md)";
             self.show_error(format!("{}: not a scene file: {hint}", path.display()));
             return;
         }
@@ -411,6 +411,10 @@ impl Viewer {
     fn apply(&mut self, action: Action) {
         match &action {
             Action::Screenshot => self.screenshot_requested = true,
+            Action::OpenScene(path) => {
+                self.open_scene(path.clone());
+                return;
+            }
             Action::MeasureReuse => {
                 self.panel.reuse = Some(match self.session.read_resource(REFLECT_REUSE) {
                     Some(Ok(img)) => {
@@ -532,6 +536,7 @@ impl Viewer {
             fly_speed: self.control.speed,
             rebuilding: rebuilding.as_deref(),
             last_reload: self.last_reload.as_deref(),
+            scene: &self.scene_path,
         };
         if self.notice.as_ref().is_some_and(|(_, at)| at.elapsed().as_secs_f32() > NOTICE_S) {
             self.notice = None;

@@ -80,7 +80,7 @@ pub const BINDINGS: &[(&str, &str)] = &[
     ("F12", "screenshot (PNG of the window, EXR of the render)"),
     ("F1 or ?", "this help"),
     ("Esc", "quit"),
-    ("drop a .ron file", "open that scene"),
+    ("drop a .ron or .obj", "open that scene (an OBJ framed, lit by default)"),
 ];
 
 /// Saved viewpoints, per scene file.

@@ -63,6 +63,8 @@ pub enum Action {
     Pause(bool),
     /// Per-pass wall times on CPU adapters (submits passes one by one).
     Profile(bool),
+    /// Open another scene file (its camera and lights; the graph stays).
+    OpenScene(PathBuf),
     /// Read back the reflection-reuse record once (it waits for the frame).
     MeasureReuse,
     /// Write a screenshot: a PNG of the window, an EXR of the render.
@@ -98,6 +100,8 @@ pub struct PanelState {
     target_ms: f64,
     /// The sample target being edited, shown while off too.
     sample_target: u32,
+    /// The path typed into the scene section's "open" field.
+    open_path: String,
     /// Hints per shader file, read once per session generation.
     hints: BTreeMap<String, BTreeMap<String, Hint>>,
     hints_generation: u64,
@@ -120,6 +124,7 @@ impl PanelState {
             scale,
             target_ms: 100.0,
             sample_target: 1024,
+            open_path: String::new(),
             hints: BTreeMap::new(),
             hints_generation: 0,
         }
@@ -152,6 +157,8 @@ pub struct PanelInput<'a> {
     pub rebuilding: Option<&'a str>,
     /// The last reload, switch or scene opened, in words (None: none yet).
     pub last_reload: Option<&'a str>,
+    /// The scene file shown.
+    pub scene: &'a std::path::Path,
 }
 
 /// Draws the side panel's sections into `ui`; returns what the user asked
@@ -160,6 +167,7 @@ pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut Pane
     let mut actions = Vec::new();
     egui::ScrollArea::vertical().show(ui, |ui| {
         stats(ui, session, input, state, &mut actions);
+        scene(ui, input, state, &mut actions);
         graphs(ui, session, state, &mut actions);
         size(ui, input, state, &mut actions);
         schedule(ui, session, input, &mut actions);
@@ -249,6 +257,35 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelSt
         }
     }
     ui.add(egui::Label::new(RichText::new(format!("fly {:.3} units/s: WASD, Q/E, wheel = speed; right-drag looks, left-drag orbits; F1: every key", input.fly_speed)).weak()).wrap());
+}
+
+/// The scene files beside the one shown, and a field to open any other.
+fn scene(ui: &mut Ui, input: &PanelInput, state: &mut PanelState, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("scene").default_open(false).show(ui, |ui| {
+        let name = |p: &std::path::Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        egui::ComboBox::from_id_salt("scene").selected_text(name(input.scene)).show_ui(ui, |ui| {
+            // Only while the list is open: it reads the folder.
+            let folder = input.scene.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+            let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
+                .map(|d| d.filter_map(Result::ok).map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "ron")).collect())
+                .unwrap_or_default();
+            files.sort();
+            for f in files {
+                let is = name(&f) == name(input.scene);
+                if ui.selectable_label(is, name(&f)).clicked() && !is {
+                    actions.push(Action::OpenScene(f));
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            let field = ui.add(egui::TextEdit::singleline(&mut state.open_path).hint_text("path/to/scene.ron").desired_width(200.0));
+            let enter = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("open").clicked() || enter) && !state.open_path.trim().is_empty() {
+                actions.push(Action::OpenScene(PathBuf::from(state.open_path.trim())));
+            }
+        });
+        ui.add(egui::Label::new(RichText::new("or drop a .ron scene file on the window").weak()).wrap());
+    });
 }
 
 fn graphs(ui: &mut Ui, session: &Session, state: &mut PanelState, actions: &mut Vec<Action>) {

@@ -1,0 +1,107 @@
+//! An OBJ file opened as a scene (`glint view model.obj`, `glint render
+//! model.obj`, an OBJ dropped on the viewer): the mesh with its MTL
+//! materials (white where it has none), a camera on +z framing its bounds
+//! and a small sphere light above and in front of it. Said once on stderr,
+//! since a scene file chooses all three.
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use crate::error::UserError;
+use crate::scene::{parse, Scene};
+
+/// The field of view of the framing camera, degrees.
+const VFOV_DEG: f64 = 40.0;
+
+/// The scene text for `file` (the OBJ's name, beside the scene's "file")
+/// with this camera and, if given, a sphere light (centre, radius,
+/// radiance).
+fn scene_text(file: &str, position: DVec3, target: DVec3, light: Option<Light>) -> String {
+    let p = |v: DVec3| format!("({:?}, {:?}, {:?})", v.x, v.y, v.z);
+    let lights = light.map_or(String::new(), |l| {
+        let e = l.radiance;
+        format!("SphereLight(center: {}, radius: {:?}, radiance: ({e:?}, {e:?}, {e:?}))", p(l.centre), l.radius)
+    });
+    format!(
+        "Scene(camera: Camera(position: {}, target: {}, vfov_deg: {VFOV_DEG:?}), objects: [Mesh(path: {file:?})], lights: [{lights}])",
+        p(position),
+        p(target)
+    )
+}
+
+/// The default light: a sphere light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Light {
+    pub centre: DVec3,
+    pub radius: f64,
+    /// Radiance, the same in every channel.
+    pub radiance: f64,
+}
+
+/// Where the framing camera and the default light go for bounds `lo..hi`
+/// (camera position, target, light): the camera on +z (a little above) at
+/// the distance where the bounding sphere fills the field of view; a small
+/// sphere light above, right and in front at three radii, bright enough for
+/// an irradiance of about 2 at the centre (pi L a^2 / d^2).
+pub(crate) fn framing(lo: DVec3, hi: DVec3) -> (DVec3, DVec3, Light) {
+    let centre = 0.5 * (lo + hi);
+    let r = (0.5 * (hi - lo).length()).max(1e-6);
+    let distance = r / (0.5 * VFOV_DEG).to_radians().sin();
+    let camera = centre + DVec3::new(0.0, 0.25, 1.0).normalize() * distance;
+    let (d, a) = (3.0 * r, 0.05 * r);
+    let light = Light { centre: centre + DVec3::new(1.0, 2.0, 2.0) * r, radius: a, radiance: 2.0 * d * d / (std::f64::consts::PI * a * a) };
+    (camera, centre, light)
+}
+
+/// Opens `path`, an OBJ file, as a scene.
+pub fn open_obj(path: &Path) -> Result<Scene, UserError> {
+    let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).ok_or_else(|| UserError::in_file(path, "not a file name"))?;
+    // First without a light, for the bounds.
+    let probe = parse(&scene_text(&file, DVec3::Z, DVec3::ZERO, None), path)?;
+    let (lo, hi) = probe.bounds().ok_or_else(|| UserError::in_file(path, "the OBJ has no triangles to show"))?;
+    let (camera, target, light) = framing(lo, hi);
+    let scene = parse(&scene_text(&file, camera, target, Some(light)), path)?;
+    eprintln!(
+        "glint: {}: an OBJ opened as a scene: its MTL materials (white where none), a camera framing it and a default sphere light; a scene file chooses them (docs/scenes.md)",
+        path.display()
+    );
+    Ok(scene)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_camera_frames_the_bounds_and_the_light_reaches_the_centre() {
+        let (lo, hi) = (DVec3::new(-1.0, 0.0, -2.0), DVec3::new(3.0, 2.0, 0.0));
+        let (camera, target, light) = framing(lo, hi);
+        let r = 0.5 * (hi - lo).length();
+        assert_eq!(target, DVec3::new(1.0, 1.0, -1.0));
+        // The bounding sphere just fits the vertical field of view.
+        let half = (r / (camera - target).length()).asin().to_degrees();
+        assert!((half - 0.5 * VFOV_DEG).abs() < 1e-9, "half angle {half}");
+        assert!(camera.z > target.z && camera.y > target.y, "in front and a little above");
+        let irradiance = std::f64::consts::PI * light.radiance * light.radius * light.radius / (light.centre - target).length_squared();
+        assert!((irradiance - 2.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn an_obj_opens_as_a_scene() {
+        let dir = std::env::temp_dir().join(format!("glint-obj-scene-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let obj = dir.join("tri \"quoted\".obj");
+        std::fs::write(&obj, "v 0 0 0\nv 4 0 0\nv 0 2 0\nf 1 2 3\n").expect("write");
+        let scene = open_obj(&obj).unwrap_or_else(|e| panic!("{e}"));
+        // Framed on the triangle's bounds, (0, 0, 0) to (4, 2, 0).
+        assert_eq!(scene.camera.target, DVec3::new(2.0, 1.0, 0.0));
+        assert!(scene.compile_features().area_lights, "a default light");
+        let empty = dir.join("empty.obj");
+        std::fs::write(&empty, "# nothing\n").expect("write");
+        let Err(e) = open_obj(&empty) else { panic!("an empty OBJ opened") };
+        let e = e.to_string();
+        assert!(e.contains("empty.obj"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
