@@ -93,6 +93,7 @@ fn viewport(line: &str) -> (u32, u32, u32, u32) {
 
 #[test]
 fn window_shows_what_render_renders() {
+    let _window = one_window_at_a_time();
     let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
     if !has_xvfb {
         assert!(std::env::var("CI").map_or(true, |v| v != "true"), "CI needs xvfb-run (tools/test installs it)");
@@ -142,6 +143,13 @@ fn window_shows_what_render_renders() {
     assert!(Path::new(&shot.with_extension("exr")).is_file());
 }
 
+/// The window tests run one at a time: they time frames, and a path-traced
+/// window beside them would take the cores their frames need.
+fn one_window_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    static WINDOW: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    WINDOW.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 /// Runs `script` (bash, with `$GLINT` the binary) under Xvfb with xdotool;
 /// None where either is missing outside CI.
 fn under_xvfb(script: &str) -> Option<std::process::Output> {
@@ -165,6 +173,7 @@ fn under_xvfb(script: &str) -> Option<std::process::Output> {
 
 #[test]
 fn keys_and_mouse_reach_the_viewer_without_a_window_manager() {
+    let _window = one_window_at_a_time();
     // No window manager: the window gets keyboard focus only when given it,
     // and the mouse events arrive between frames. The window is the panel
     // (340 points) and the 160x120 image beside it.
@@ -192,6 +201,7 @@ fn keys_and_mouse_reach_the_viewer_without_a_window_manager() {
 
 #[test]
 fn the_fps_and_frame_plot_show_what_the_frames_took() {
+    let _window = one_window_at_a_time();
     // The test's own clock: from the first frame's line to the last's.
     let Some(_) = under_xvfb("true") else { return };
     let glint = env!("CARGO_BIN_EXE_glint");
@@ -229,6 +239,7 @@ fn the_fps_and_frame_plot_show_what_the_frames_took() {
 
 #[test]
 fn a_screenshot_that_cannot_be_written_fails_the_run() {
+    let _window = one_window_at_a_time();
     let Some(_) = under_xvfb("true") else { return };
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_glint"), "view", "scenes/cornell.ron", "--graph", "passes/hybrid.ron"])
@@ -257,6 +268,7 @@ fn drop_source() {
 
 #[test]
 fn a_dropped_scene_file_opens() {
+    let _window = one_window_at_a_time();
     let dropped = repo().join("scenes/cornell-point.ron");
     let script = format!(
         r#"
@@ -285,6 +297,7 @@ fn a_dropped_scene_file_opens() {
 
 #[test]
 fn the_panel_stays_live_while_a_frame_renders() {
+    let _window = one_window_at_a_time();
     // Path-traced frames of thesis-env2 take a second or more on lavapipe;
     // the window's own frames go on between them.
     let script = r#"

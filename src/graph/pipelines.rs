@@ -218,7 +218,7 @@ impl PipelineCache {
 /// results in `items`' order (None where a thread panicked: a bug, as
 /// create_guarded catches the compiler's panics).
 fn in_parallel<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<Option<R>> {
-    let threads = if std::env::var_os("ZZ_SERIAL").is_some() { 1 } else { std::thread::available_parallelism().map_or(1, |n| n.get()).min(items.len()) };
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(items.len());
     if threads <= 1 {
         return items.iter().map(|x| Some(f(x))).collect();
     }
