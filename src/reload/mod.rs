@@ -4,7 +4,7 @@
 //! notify watches folders recursively (editors that save by renaming over
 //! the file, vim and JetBrains among them, replace it); notify-debouncer-full
 //! folds the events of one save, or a burst of saves, into one batch after
-//! about 100 ms of quiet. A file whose content hash has not changed since
+//! about 50 ms of quiet. A file whose content hash has not changed since
 //! the last batch is skipped (touches, saves of the same text, editors'
 //! backup files). `classify` says which rebuild a changed file calls for.
 
@@ -36,7 +36,7 @@ pub fn relative_to_cwd(text: &str) -> String {
 }
 
 /// Quiet time that ends a batch of events.
-pub const DEBOUNCE: Duration = Duration::from_millis(100);
+pub const DEBOUNCE: Duration = Duration::from_millis(50);
 
 /// A debounced, content-filtered file watcher.
 pub struct Watcher {

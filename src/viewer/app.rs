@@ -503,7 +503,12 @@ impl Viewer {
         // frame, so its Nth present shows the Nth frame.
         let scripted = self.options.frames.is_some();
         let mut arrived = self.take_scene_image(false);
-        if !self.mirror.busy() {
+        // While a saved file's rebuild compiles, no new scene frame starts:
+        // on a CPU driver the frame and the compiler share the cores, and
+        // the save reaches the image sooner with the compiler alone (the
+        // window goes on presenting; the image holds meanwhile).
+        let compiling = self.reloader.as_ref().is_some_and(|r| r.running().is_some());
+        if !self.mirror.busy() && !compiling {
             let (mirror, device) = (&mut self.mirror, &self.gpu.device);
             let mut record = |enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, format| mirror.record(device, enc, texture, format);
             let hook = FrameHook { resource: self.panel.resource.as_deref(), record: &mut record };
