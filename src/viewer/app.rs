@@ -1,6 +1,9 @@
 //! The viewer's window and frame: winit events, the camera, the session's
 //! frame, hot reload off the presenting thread, the present pass and egui.
 
+
+mod rebuilds;
+
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -15,13 +18,11 @@ use crate::gpu::Gpu;
 use crate::graph::executor::{FrameHook, Timing};
 use crate::session::frame_loop::{Clock, FrameLoop, FrameTarget};
 use crate::session::{Session, SessionOptions};
-use crate::stats::{ReuseShare, REFLECT_REUSE};
-use crate::session::rebuild::RebuildKind;
-use crate::viewer::actions::{self, Step, Switch};
-use crate::viewer::background::{After, Pending};
+use crate::stats::REFLECT_REUSE;
+use crate::viewer::background::Pending;
 use crate::viewer::camera::{self, CameraControl};
 use crate::viewer::keys::{self, KeyCommand, Viewpoints};
-use crate::viewer::panels::{self, Action, PanelInput, PanelState};
+use crate::viewer::panels::{self, PanelInput, PanelState};
 use crate::viewer::mirror::Mirror;
 use crate::viewer::present::{Present, Rect};
 use crate::viewer::presents::Presents;
@@ -344,149 +345,6 @@ impl Viewer {
             },
             KeyCommand::Pause => self.frames.paused = !self.frames.paused,
             KeyCommand::Screenshot => self.screenshot_requested = true,
-        }
-    }
-
-    /// Opens another scene file (dropped on the window): its camera, its
-    /// lights; the graph stays. It loads off this thread; a file that
-    /// fails to load leaves the running scene as it was, with the error in
-    /// the overlay.
-    fn open_scene(&mut self, path: PathBuf) {
-        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ron") || e.eq_ignore_ascii_case("obj")) {
-            let hint = "the viewer opens a .ron scene file or an .obj mesh (docs/scenes.md)";
-            self.show_error(format!("{}: not a scene file: {hint}", path.display()));
-            return;
-        }
-        let job = self.session.job(RebuildKind::OpenScene(path.clone()));
-        self.start_pending(job, path.display().to_string(), After::OpenScene(path));
-    }
-
-    fn start_pending(&mut self, job: crate::session::rebuild::RebuildJob, what: String, after: After) {
-        // A newer switch supersedes one still building (its result is dropped).
-        match Pending::start(job, what, after) {
-            Ok(p) => self.pending = Some(p),
-            Err(e) => self.show_error(e.to_string()),
-        }
-    }
-
-    /// Commits a switch whose rebuild finished, at this frame boundary.
-    fn poll_pending(&mut self) {
-        let Some(result) = self.pending.as_ref().and_then(Pending::poll) else { return };
-        let Some(pending) = self.pending.take() else { return };
-        let ms = pending.started.elapsed().as_secs_f64() * 1e3;
-        match pending.after {
-            After::Switch(commit) => match result.and_then(|r| actions::finish(&mut self.session, &mut self.frames, &commit, r)) {
-                Ok(report) => {
-                    self.panel.active_profile = commit.profile;
-                    self.panel.scale = commit.profile.and_then(|i| self.panel.profiles.get(i)).map_or(1.0, |p| p.resolution_scale);
-                    self.overlay = None;
-                    let gap = self.presents.longest_gap_since(pending.started, Instant::now());
-                    let line = format!("switched to {}: {} in {ms:.0} ms (longest gap between frames {gap:.0} ms)", commit.what, report.passes_rebuilt());
-                    let line = crate::reload::relative_to_cwd(&line);
-                    self.announce = Some((line.clone(), self.session.generation));
-                    self.last_reload = Some(line);
-                    self.refresh_reloader();
-                }
-                Err(e) => self.show_error(format!("{e} (keeping the running graph)")),
-            },
-            After::OpenScene(path) => match result.and_then(|r| self.session.commit(r)) {
-                Ok(report) => {
-                    self.frames.base_camera = self.session.scene.scene.camera;
-                    self.control = CameraControl::for_scene(&self.frames.base_camera, self.session.scene.scene.bounds());
-                    self.window.set_title(&format!("glint: {} ({})", path.display(), self.gpu.info.name));
-                    self.scene_path = path;
-                    self.overlay = None;
-                    self.last_reload = Some(format!("opened {} ({} in {ms:.0} ms)", self.scene_path.display(), report.passes_rebuilt()));
-                    println!("opened {}", self.scene_path.display());
-                    let shown = crate::reload::relative_to_cwd(&self.scene_path.display().to_string());
-                    self.notice = Some((format!("opened {shown}: its camera and lights, the graph as it was"), Instant::now()));
-                    self.refresh_reloader();
-                }
-                Err(e) => self.show_error(format!("{e} (keeping the scene shown)")),
-            },
-        }
-    }
-
-    /// Applies a panel or key action through the session's calls.
-    fn apply(&mut self, action: Action) {
-        match &action {
-            Action::Screenshot => self.screenshot_requested = true,
-            Action::OpenScene(path) => {
-                self.open_scene(path.clone());
-                return;
-            }
-            Action::MeasureReuse => {
-                self.panel.reuse = Some(match self.session.read_resource(REFLECT_REUSE) {
-                    Some(Ok(img)) => {
-                        let s = ReuseShare::of(&img);
-                        format!("{:.1}% of {} specular pixels reused", s.share() * 100.0, s.specular)
-                    }
-                    Some(Err(e)) => e.to_string(),
-                    None => "no reuse record in this graph".into(),
-                });
-            }
-            _ => {}
-        }
-        match actions::start(&mut self.session, &mut self.frames, &self.panel.profiles, self.options.size, &action) {
-            Ok(Step::Switch(s)) => {
-                let Switch { job, commit } = *s;
-                let what = commit.what.clone();
-                self.start_pending(job, what, After::Switch(commit));
-            }
-            Ok(Step::Done(Some(report))) => {
-                if let Action::SetSize { requested, .. } = action {
-                    self.options.size = requested;
-                    self.panel.requested = requested;
-                }
-                self.overlay = None;
-                self.last_reload = Some(format!("{} in {:.0} ms", report.passes_rebuilt(), report.ms));
-                self.refresh_reloader();
-            }
-            Ok(Step::Done(None)) => {
-                if matches!(action, Action::SetParam { .. }) {
-                    self.refresh_reloader();
-                }
-            }
-            Err(e) => self.show_error(e.to_string()),
-        }
-    }
-
-    fn show_error(&mut self, message: String) {
-        let message = crate::reload::relative_to_cwd(&message);
-        if self.overlay.as_deref() != Some(message.as_str()) {
-            eprintln!("error: {message}");
-        }
-        self.overlay = Some(message);
-    }
-
-    /// Commits a rebuild the reload thread finished, at this frame
-    /// boundary.
-    fn poll_reload(&mut self) {
-        let Some(finished) = self.reloader.as_ref().and_then(Reloader::finished) else { return };
-        match finished.result.and_then(|r| self.session.commit(r)) {
-            Ok(report) => {
-                let line = format!(
-                    "reloaded {}: {} in {:.0} ms ({} frames presented meanwhile, longest gap between frames {:.0} ms, frame time {:.0} ms)",
-                    finished.what,
-                    report.passes_rebuilt(),
-                    finished.started.elapsed().as_secs_f64() * 1e3,
-                    finished.frames,
-                    self.presents.longest_gap_since(finished.started, Instant::now()),
-                    self.presents.frame_ms_before(finished.started)
-                );
-                let line = crate::reload::relative_to_cwd(&line);
-                self.announce = Some((line.clone(), self.session.generation));
-                self.last_reload = Some(line);
-                self.overlay = None;
-            }
-            Err(e) => self.show_error(format!("{e} (keeping the last good {})", finished.kind)),
-        }
-        self.refresh_reloader();
-    }
-
-    fn refresh_reloader(&self) {
-        if let Some(r) = &self.reloader {
-            r.refresh(&self.session);
         }
     }
 
