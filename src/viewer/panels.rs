@@ -284,7 +284,7 @@ fn scene(ui: &mut Ui, input: &PanelInput, state: &mut PanelState, actions: &mut 
                 actions.push(Action::OpenScene(PathBuf::from(state.open_path.trim())));
             }
         });
-        ui.add(egui::Label::new(RichText::new("or drop a .ron scene file on the window").weak()).wrap());
+        ui.add(egui::Label::new(RichText::new("or drop a .ron scene or an .obj on the window").weak()).wrap());
     });
 }
 

@@ -31,6 +31,11 @@ impl Viewer {
     }
 
     pub(super) fn start_pending(&mut self, job: RebuildJob, what: String, after: After) {
+        // The same switch asked for again while it builds (a second click,
+        // an Enter and a click) is not built twice.
+        if self.pending.as_ref().is_some_and(|p| p.what == what) {
+            return;
+        }
         // A newer switch supersedes one still building (its result is dropped).
         match Pending::start(job, what, after) {
             Ok(p) => self.pending = Some(p),
