@@ -150,6 +150,25 @@ fn one_window_at_a_time() -> std::sync::MutexGuard<'static, ()> {
     WINDOW.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
+/// A script for `under_xvfb`: starts `glint view ARGS`, waits for its
+/// window (`$wid`) and then `settle` seconds, runs `body`, presses Esc and
+/// prints `exit N` with the viewer's exit code.
+fn viewer_script(args: &str, settle: u32, body: &str) -> String {
+    format!(
+        r#"
+        "$GLINT" view {args} &
+        pid=$!
+        for i in $(seq 120); do wid=$(xdotool search --name "glint:" 2>/dev/null | head -1); [ -n "$wid" ] && break; sleep 0.5; done
+        sleep {settle}
+        {body}
+        xdotool windowfocus "$wid"; sleep 0.3
+        xdotool key Escape
+        wait $pid
+        echo "exit $?"
+    "#
+    )
+}
+
 /// Runs `script` (bash, with `$GLINT` the binary) under Xvfb with xdotool;
 /// None where either is missing outside CI.
 fn under_xvfb(script: &str) -> Option<std::process::Output> {
@@ -177,21 +196,18 @@ fn keys_and_mouse_reach_the_viewer_without_a_window_manager() {
     // No window manager: the window gets keyboard focus only when given it,
     // and the mouse events arrive between frames. The window is the panel
     // (340 points) and the 160x120 image beside it.
-    let script = r#"
-        "$GLINT" view scenes/cornell.ron --graph passes/hybrid.ron --size 160x120 &
-        pid=$!
-        for i in $(seq 120); do wid=$(xdotool search --name "glint:" 2>/dev/null | head -1); [ -n "$wid" ] && break; sleep 0.5; done
-        sleep 3
+    let script = viewer_script(
+        "scenes/cornell.ron --graph passes/hybrid.ron --size 160x120",
+        3,
+        r#"
         xdotool windowfocus "$wid"; sleep 0.3
         xdotool key c; sleep 1
         xdotool mousemove --window "$wid" 400 100 sleep 0.3 mousedown 3 sleep 0.3 mousemove --window "$wid" 430 120 sleep 0.3 mousemove --window "$wid" 460 140 sleep 0.3 mouseup 3
         sleep 1
         xdotool key c; sleep 1
-        xdotool key Escape
-        wait $pid
-        echo "exit $?"
-    "#;
-    let Some(out) = under_xvfb(script) else { return };
+        "#,
+    );
+    let Some(out) = under_xvfb(&script) else { return };
     let stdout = String::from_utf8_lossy(&out.stdout);
     let cameras: Vec<&str> = stdout.lines().filter(|l| l.starts_with("camera: Camera(")).collect();
     assert_eq!(cameras.len(), 2, "C prints the camera: {stdout}\n{}", String::from_utf8_lossy(&out.stderr));
@@ -270,23 +286,16 @@ fn drop_source() {
 fn a_dropped_scene_file_opens() {
     let _window = one_window_at_a_time();
     let dropped = repo().join("scenes/cornell-point.ron");
-    let script = format!(
+    let body = format!(
         r#"
-        "$GLINT" view scenes/cornell.ron --graph passes/hybrid.ron --size 160x120 &
-        pid=$!
-        for i in $(seq 120); do wid=$(xdotool search --name "glint:" 2>/dev/null | head -1); [ -n "$wid" ] && break; sleep 0.5; done
-        sleep 3
         GLINT_DROP_WINDOW="$wid" GLINT_DROP_FILE="{}" "{}" --exact drop_source --ignored --nocapture --test-threads 1
         sleep 3
         echo "title: $(xdotool getwindowname "$wid")"
-        xdotool windowfocus "$wid"; sleep 0.3
-        xdotool key Escape
-        wait $pid
-        echo "exit $?"
-    "#,
+        "#,
         dropped.display(),
         std::env::current_exe().expect("the test binary").display()
     );
+    let script = viewer_script("scenes/cornell.ron --graph passes/hybrid.ron --size 160x120", 3, &body);
     let Some(out) = under_xvfb(&script) else { return };
     let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains(&format!("dropped {}", dropped.display())), "the drop went through: {stdout}\n{stderr}");
@@ -300,17 +309,8 @@ fn the_panel_stays_live_while_a_frame_renders() {
     let _window = one_window_at_a_time();
     // Path-traced frames of thesis-env2 take a second or more on lavapipe;
     // the window's own frames go on between them.
-    let script = r#"
-        "$GLINT" view scenes/thesis-env2.ron --graph passes/pathtrace.ron --size 480x270 &
-        pid=$!
-        for i in $(seq 120); do wid=$(xdotool search --name "glint:" 2>/dev/null | head -1); [ -n "$wid" ] && break; sleep 0.5; done
-        sleep 8
-        xdotool windowfocus "$wid"; sleep 0.3
-        xdotool key Escape
-        wait $pid
-        echo "exit $?"
-    "#;
-    let Some(out) = under_xvfb(script) else { return };
+    let script = viewer_script("scenes/thesis-env2.ron --graph passes/pathtrace.ron --size 480x270", 8, "");
+    let Some(out) = under_xvfb(&script) else { return };
     let stdout = String::from_utf8_lossy(&out.stdout);
     let line = stdout.lines().find(|l| l.starts_with("window: ")).unwrap_or_else(|| panic!("no summary line: {stdout}\n{}", String::from_utf8_lossy(&out.stderr)));
     let figure = |key: &str| -> f64 {

@@ -317,7 +317,7 @@ impl Session {
     /// the camera is where it was, nothing in the scene moves and no bake
     /// is running. (A param, graph or scene change restarts the count.)
     pub fn still(&self) -> bool {
-        self.state.last.is_some_and(|(c, _)| c == self.scene.scene.camera) && !self.scene.scene.compile_features().motion && !self.baking()
+        self.state.last.is_some_and(|(c, _)| c == self.scene.scene.camera) && !self.graph.schedule.features.motion && !self.baking()
     }
 
     /// Reads the last frame's output back to the CPU (waits for the GPU).

@@ -365,7 +365,8 @@ impl Viewer {
         // on a CPU driver the frame and the compiler share the cores, and
         // the save reaches the image sooner with the compiler alone (the
         // window goes on presenting; the image holds meanwhile).
-        let compiling = self.reloader.as_ref().is_some_and(|r| r.running().is_some());
+        let reloading = self.reloader.as_ref().and_then(Reloader::running);
+        let compiling = reloading.is_some();
         if !self.mirror.busy() && !compiling {
             let (mirror, device) = (&mut self.mirror, &self.gpu.device);
             let mut record = |enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, format| mirror.record(device, enc, texture, format);
@@ -390,7 +391,7 @@ impl Viewer {
         let mut actions = Vec::new();
         let mut central = egui::Rect::NOTHING;
         let switching = self.pending.as_ref().map(|p| p.what.clone());
-        let rebuilding = switching.or_else(|| self.reloader.as_ref().and_then(Reloader::running));
+        let rebuilding = switching.or(reloading);
         let frame_plot = self.presents.plot();
         let input = PanelInput {
             frames: &self.frames,

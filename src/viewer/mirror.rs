@@ -33,6 +33,9 @@ pub struct Mirror {
     shown: Option<(wgpu::Texture, TexFormat)>,
     /// A copy recorded into a frame not yet submitted.
     recorded: Option<(wgpu::Buffer, TexFormat, (u32, u32), u32)>,
+    /// The last copy's buffer, unmapped, for the next copy of the same
+    /// size (no buffer is made every frame).
+    spare: Option<wgpu::Buffer>,
     in_flight: Option<InFlight>,
 }
 
@@ -53,12 +56,16 @@ impl Mirror {
     pub fn record(&mut self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, format: TexFormat) {
         let size = (texture.width(), texture.height());
         let row = (size.0 * format.bytes_per_pixel() as u32).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("mirror"),
-            size: u64::from(row) * u64::from(size.1),
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
+        let bytes = u64::from(row) * u64::from(size.1);
+        let buffer = match self.spare.take() {
+            Some(b) if b.size() == bytes => b,
+            _ => device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("mirror"),
+                size: bytes,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            }),
+        };
         enc.copy_texture_to_buffer(
             texture.as_image_copy(),
             wgpu::TexelCopyBufferInfo { buffer: &buffer, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(size.1) } },
@@ -122,6 +129,7 @@ impl Mirror {
             );
         }
         f.buffer.unmap();
+        self.spare = Some(f.buffer);
         Ok(true)
     }
 }
