@@ -396,7 +396,7 @@ impl Drop for Watch {
 }
 
 fn is_event(line: &str) -> bool {
-    line.starts_with("reloaded ") || line.starts_with("error: ")
+    line.starts_with("reloaded ") || line.starts_with("error: ") || line.starts_with("waiting for ")
 }
 
 fn load_png(path: &Path) -> ImageF32 {
@@ -483,6 +483,27 @@ fn watch_picks_up_each_save_once_and_keeps_the_last_good_shader() {
         differing(&last_good, &fresh),
         w.output()
     );
+
+    // A file left empty, then replaced by a link to a device: each wait is
+    // said once, nothing is rebuilt, and content brings the reload.
+    write(&lights, "");
+    let waiting = w.expect("waiting for ", LINE_TIMEOUT);
+    assert!(waiting.ends_with("to have content: it is empty (keeping the last good state)"), "{waiting}");
+    assert!(names.iter().any(|n| waiting.starts_with(&format!("waiting for {n} "))), "{waiting}");
+    #[cfg(unix)]
+    {
+        let link = ws.join("shaders/lights.wgsl.link");
+        std::os::unix::fs::symlink("/dev/zero", &link).expect("symlink to /dev/zero");
+        std::fs::rename(&link, &lights).expect("rename the link over lights.wgsl");
+        let waiting = w.expect("waiting for ", LINE_TIMEOUT);
+        assert!(waiting.contains("it is not a regular file"), "{waiting}");
+        std::fs::remove_file(&lights).expect("remove the link");
+    }
+    save_atomic(&lights, &lights_scaled(&original, "0.30"));
+    let reloaded = w.expect("reloaded ", LINE_TIMEOUT);
+    assert!(reloaded.contains("lights.wgsl: 1 pass rebuilt"), "{reloaded}");
+    assert!(w.barrier(&ws).is_empty(), "{}", w.output());
+    let last_good = load_png(&out);
 
     // A broken save: one error line naming file and line; the output stays.
     let png_bytes = std::fs::read(&out).expect("read out.png");

@@ -3,7 +3,11 @@
 //! (see `reload::classify`), each built aside and swapped in only when it
 //! succeeded, and the outputs are rendered again. One line per event:
 //! `reloaded <file>: <n> passes rebuilt in <ms> ms` ("1 pass rebuilt"), or
-//! `error: <file>:<line>:<col>: <message> (keeping the last good <what>)`.
+//! `error: <file>:<line>:<col>: <message> (keeping the last good <what>)`,
+//! or, for a file left empty or replaced by something that is not a file,
+//! `waiting for <file> to have content: it is empty (keeping the last good
+//! state)`. An error from a file saved again while it built is not printed:
+//! the next batch rebuilds from the newer content.
 //! Ctrl-C (SIGINT) ends it with exit code 0.
 
 use std::path::PathBuf;
@@ -13,7 +17,7 @@ use std::time::{Duration, Instant};
 
 use super::render_cmd::{render_frames, RenderArgs};
 use crate::error::UserError;
-use crate::reload::{classify, relative_to_cwd, watch_dirs, Sources, Watcher};
+use crate::reload::{classify, relative_to_cwd, waiting_line, watch_dirs, Sources, Watcher};
 use crate::session::frame_loop::{FrameLoop, FrameStats};
 use crate::session::rebuild::RebuildKind;
 use crate::session::Session;
@@ -55,10 +59,14 @@ fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop) -> Resu
     let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
     out!("watching {} (Ctrl-C ends)", shown.join(", "));
     while !stop.load(Ordering::Acquire) {
-        let (changed, errors) = watcher.changed(Duration::from_millis(200));
-        for e in errors {
+        let batch = watcher.changed(Duration::from_millis(200));
+        for e in &batch.errors {
             eprintln!("glint: file watcher: {e}");
         }
+        for (path, why) in &batch.waiting {
+            out!("{} (keeping the last good state)", waiting_line(path, why));
+        }
+        let changed = batch.changed;
         if changed.is_empty() {
             continue;
         }
@@ -85,6 +93,10 @@ fn watch(args: &RenderArgs, mut session: Session, mut frames: FrameLoop) -> Resu
                     let line = format!("reloaded {file}: {} in {:.0} ms", report.passes_rebuilt(), start.elapsed().as_secs_f64() * 1e3);
                     out!("{}", relative_to_cwd(&line));
                 }
+                // Saved again while it built (a burst of saves, or an editor
+                // truncating mid-read): the next batch rebuilds from the
+                // newer content, so this error is stale.
+                Err(_) if watcher.superseded(&changed) => {}
                 Err(e) => out!("{}", relative_to_cwd(&format!("error: {e} (keeping the last good {what})"))),
             }
         }

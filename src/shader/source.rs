@@ -125,6 +125,10 @@ fn expand(path: &Path, dir: &Path, from: Option<Location>, src: &mut ShaderSourc
         Some(loc) => UserError::at(loc.clone(), format!("cannot import {}: {e}", path.display())),
         None => UserError::in_file(path, format!("cannot read the shader: {e}")),
     })?;
+    if text.trim().is_empty() {
+        let what = if from.is_some() { "the imported shader" } else { "the shader" };
+        return Err(UserError::in_file(path, format!("{what} is empty")));
+    }
     src.files.push(path.to_path_buf());
     let index = src.files.len() - 1;
     expand_lines(&text, index, dir, src)

@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use crate::error::UserError;
-use crate::reload::{classify, watch_dirs, Sources, Watcher};
+use crate::reload::{classify, waiting_line, watch_dirs, Sources, Watcher};
 use crate::session::rebuild::{Rebuild, RebuildJob, RebuildKind};
 use crate::session::Session;
 
@@ -61,10 +61,19 @@ impl Reloader {
         std::thread::Builder::new()
             .name("glint reload".into())
             .spawn(move || loop {
-                let (changed, errors) = watcher.changed(Duration::from_millis(200));
-                for e in errors {
+                let batch = watcher.changed(Duration::from_millis(200));
+                for e in &batch.errors {
                     eprintln!("glint: file watcher: {e}");
                 }
+                for (path, why) in batch.waiting {
+                    let result = Err(UserError::new(waiting_line(&path, &why)));
+                    let what = path.display().to_string();
+                    let waited = Finished { what, kind: "state", started: Instant::now(), frames: 0, result };
+                    if tx.send(waited).is_err() {
+                        return;
+                    }
+                }
+                let changed = batch.changed;
                 if changed.is_empty() {
                     // The viewer is gone when nobody listens any more.
                     if Arc::strong_count(&thread_shared) == 1 {
@@ -91,6 +100,11 @@ impl Reloader {
                     }
                     s.running = None;
                     drop(s);
+                    // Saved again while it built: the next batch rebuilds
+                    // from the newer content, so this error is stale.
+                    if result.is_err() && watcher.superseded(&changed) {
+                        continue;
+                    }
                     let frames = thread_presented.load(Ordering::Acquire) - frames0;
                     if tx.send(Finished { what, kind: kind_word, started, frames, result }).is_err() {
                         return;
