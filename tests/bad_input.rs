@@ -191,6 +191,85 @@ fn bad_input_is_a_clear_error() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// (what, args, environment, text the message must hold)
+type Case<'a> = (&'a str, Vec<&'a str>, Vec<(&'a str, &'a str)>, Vec<&'a str>);
+
+/// Issue 40's cases (bad input, round two): each exits 2 with the file,
+/// its line where it has lines, and the problem in the graph's or scene's
+/// terms; each failed before its fix (a black image with exit 0, a
+/// panic, NaN figures, a silent default).
+#[test]
+fn round_two_is_a_clear_error() {
+    let dir = scratch("bad-input-2");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("x.png").display().to_string();
+    let dispatch = |name: &str, size: &str| {
+        let text = std::fs::read_to_string(repo().join("passes/direct.ron"))
+            .unwrap()
+            .replacen("Pass(name: \"lights_area\"", &format!("Pass(name: \"lights_area\", dispatch: {size}"), 1);
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path.display().to_string()
+    };
+    let huge = dispatch("huge-dispatch.ron", "Fixed(4294967295, 4294967295)");
+    let empty = dispatch("empty-dispatch.ron", "Fixed(0, 0)");
+    let nan = dispatch("nan-dispatch.ron", "Scaled(NaN)");
+    let texels = dir.join("texels.ron");
+    let text = std::fs::read_to_string(repo().join("passes/direct.ron")).unwrap();
+    std::fs::write(&texels, text.replacen("Pass(name: \"lights_area\"", "Pass(name: \"lights_area\", texels_per_invocation: 65", 1)).unwrap();
+    let texels = texels.display().to_string();
+    let nan_pfm = pfm(&dir.join("nan.pfm"), "PF\n2 1\n-1.0\n", &[[f32::NAN, 0.5, 0.5], [1.0, 0.0, 0.0]]);
+    std::fs::write(dir.join("big.obj"), "v 0 0 0\nv 1e20 0 0\nv 0 1e20 0\nf 1 2 3\n").unwrap();
+    let big = dir.join("big.ron");
+    std::fs::write(&big, "Scene(camera: Camera(position: (0.0, 0.0, 3.0), target: (0.0, 0.0, 0.0), vfov_deg: 40.0),\n  objects: [\n    Mesh(path: \"big.obj\"),\n  ])\n").unwrap();
+    let big = big.display().to_string();
+    let mut cases: Vec<Case> = vec![
+        ("dispatch Fixed(0, 0)", vec!["graph", "check", &empty], vec![], vec!["empty-dispatch.ron:22:", "pass `lights_area`: dispatch `Fixed(0, 0)` is empty"]),
+        ("dispatch Scaled(NaN)", vec!["graph", "check", &nan], vec![], vec!["nan-dispatch.ron:22:", "dispatch `Scaled(NaN)`: the scale must be a finite number"]),
+        ("texels_per_invocation: 65", vec!["graph", "check", &texels], vec![], vec!["texels.ron:22:", "`texels_per_invocation` is 65; give 1 to 64"]),
+        ("an OBJ vertex at 1e20", vec!["graph", "check", "passes/direct.ron", "--scene", &big], vec![], vec!["big.ron:3", "the mesh reaches 1e20 from its origin", "beyond glint's range"]),
+        ("bench stress --target-ms 1e300", vec!["bench", "stress", "scenes/cornell.ron", "--graph", "passes/direct.ron", "--target-ms", "1e300"], vec![], vec!["--target-ms 1e300", "at most 60000"]),
+    ];
+    for value in ["0", "-1", "abc", "inf", "NaN", ""] {
+        cases.push(("GLINT_GPU_TIMEOUT_S", vec!["render", "scenes/cornell.ron", "--size", "8x8", "--out", &out], vec![("GLINT_GPU_TIMEOUT_S", value)], vec!["GLINT_GPU_TIMEOUT_S", "above 0"]));
+    }
+    if gpu().is_some() {
+        cases.push((
+            "dispatch Fixed(4294967295, 4294967295)",
+            vec!["render", "scenes/cornell.ron", "--graph", &huge, "--size", "8x8", "--out", &out],
+            vec![],
+            vec!["huge-dispatch.ron:22:", "pass `lights_area`: its dispatch of 4294967295x4294967295 invocations", "at most 65535 a side"],
+        ));
+        cases.push((
+            "trade --reference with a NaN pixel",
+            vec!["trade", "scenes/cornell.ron", "--graphs", "passes/direct.ron", "--reference", &nan_pfm, "--size", "2x1", "--frames", "1", "--out", &out],
+            vec![],
+            vec!["nan.pfm", "1 pixels hold NaN or infinite values"],
+        ));
+    }
+    // A link inside the shader folder that leads out of it.
+    #[cfg(unix)]
+    let link_graph = {
+        let ws = dir.join("ws");
+        std::fs::create_dir_all(ws.join("shaders/shared")).unwrap();
+        std::fs::create_dir_all(ws.join("passes")).unwrap();
+        std::os::unix::fs::symlink("/etc/passwd", ws.join("shaders/evil.wgsl")).unwrap();
+        std::fs::write(ws.join("passes/evil.ron"), "FrameGraph(name: \"evil\", resources: { \"out_tex\": Texture(format: Rgba32Float) },\n  passes: [ Pass(name: \"evil\", shader: \"evil.wgsl\") ], output: \"out_tex\")\n").unwrap();
+        ws.join("passes/evil.ron").display().to_string()
+    };
+    #[cfg(unix)]
+    cases.push(("a shader linked out of the shader folder", vec!["graph", "check", &link_graph], vec![], vec!["evil.wgsl", "leads to /etc/passwd, outside the shader folder"]));
+    let mut failed = Vec::new();
+    for (what, args, env, needles) in &cases {
+        let (code, err) = glint_env(args, env);
+        if code != 2 || !needles.iter().all(|n| err.contains(n)) || err.contains("root:") {
+            failed.push(format!("{what}: exit {code}, message: {err}"));
+        }
+    }
+    assert!(failed.is_empty(), "{} of {} cases failed:\n{}", failed.len(), cases.len(), failed.join("\n"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 #[test]
 fn adapter_filters_that_match_nothing_say_so() {
     let (code, err) = glint_env(&["render", "scenes/cornell.ron", "--out", "target/x.png"], &[("WGPU_BACKEND", "bogus")]);

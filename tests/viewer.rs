@@ -327,3 +327,28 @@ fn the_panel_stays_live_while_a_frame_renders() {
     assert!(window_gap < 0.5 * scene_ms, "the window waited for the scene's frames: {line}");
     assert!(stdout.lines().any(|l| l == "exit 0"), "Esc quits with exit 0: {stdout}");
 }
+
+/// A render size beyond the adapter is refused as `render` refuses it
+/// (exit 2), not a panic in the windowing library (issue 40: winit
+/// panicked on a 100000-pixel window).
+#[test]
+fn a_size_no_adapter_renders_is_refused() {
+    let _window = one_window_at_a_time();
+    if Command::new("xvfb-run").arg("--help").output().is_err() {
+        assert!(std::env::var("CI").map_or(true, |v| v != "true"), "CI needs xvfb-run (tools/test installs it)");
+        return;
+    }
+    let Some(_) = gpu() else { return };
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_glint"), "view", "scenes/cornell.ron"])
+        .args(["--size", "100000x100000", "--frames", "1", "--screenshot"])
+        .arg(scratch("viewer-huge").join("never.png"))
+        .current_dir(repo())
+        .env("WGPU_BACKEND", "vulkan")
+        .output()
+        .expect("run xvfb-run");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    // (The size named is after the machine profile's resolution scale.)
+    assert!(stderr.contains("is beyond this adapter's limit") && !stderr.contains("panicked"), "{stderr}");
+}

@@ -372,9 +372,19 @@ pub(super) fn stress_frame(gpu: &Gpu, mut scene: crate::scene::Scene, args: &Str
     Ok((median(&ms), triangles))
 }
 
+/// Where `bench stress` stops doubling.
+const MAX_STRESS_TRIANGLES: usize = 50_000_000;
+/// The largest `--target-ms` (a minute a frame).
+const MAX_STRESS_TARGET_MS: f64 = 60_000.0;
+
 fn stress(args: StressArgs) -> Result<(), UserError> {
-    if args.target_ms.is_nan() || args.target_ms <= 0.0 {
-        return Err(UserError::new("--target-ms must be a positive number of milliseconds"));
+    // Steps double the triangles until a frame takes the target; a target
+    // no frame of MAX_STRESS_TRIANGLES reaches would run for hours.
+    if !(args.target_ms.is_finite() && args.target_ms > 0.0 && args.target_ms <= MAX_STRESS_TARGET_MS) {
+        return Err(UserError::new(format!(
+            "--target-ms {:e}: give a frame time in milliseconds above 0 and at most {MAX_STRESS_TARGET_MS} (the steps stop at {MAX_STRESS_TRIANGLES} triangles anyway)",
+            args.target_ms
+        )));
     }
     let gpu = Gpu::new()?;
     check_size(&gpu, args.size)?;
@@ -397,7 +407,8 @@ fn stress(args: StressArgs) -> Result<(), UserError> {
             break;
         }
         reached = tris;
-        if tris > 50_000_000 {
+        if tris > MAX_STRESS_TRIANGLES {
+            out!("stopped_at_cap=\"{MAX_STRESS_TRIANGLES} triangles, under the target\"");
             break;
         }
         copies = (copies * 2).max(1);

@@ -123,16 +123,20 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-fn compare(reference: &std::path::Path, test: &std::path::Path, block: u32) -> Result<(), UserError> {
-    let r = crate::image_io::load(reference)?;
-    let t = crate::image_io::load(test)?;
-    // Metrics of non-finite pixels are NaN, and a gate written as
-    // "relmse > x fails" would pass them: refuse such input instead.
-    for (path, img) in [(reference, &r), (test, &t)] {
-        if let Some((count, x, y)) = crate::metrics::non_finite(img) {
-            return Err(UserError::in_file(path, format!("{count} pixels hold NaN or infinite values (the first at x {x}, y {y}); compare measures finite images")));
-        }
+/// An image to measure with or against: metrics of non-finite pixels are
+/// NaN, and a gate written as "relmse > x fails" would pass them, so such
+/// input is refused.
+pub(crate) fn load_finite(path: &std::path::Path) -> Result<crate::gpu::readback::ImageF32, UserError> {
+    let img = crate::image_io::load(path)?;
+    if let Some((count, x, y)) = crate::metrics::non_finite(&img) {
+        return Err(UserError::in_file(path, format!("{count} pixels hold NaN or infinite values (the first at x {x}, y {y}); errors are measured on finite images")));
     }
+    Ok(img)
+}
+
+fn compare(reference: &std::path::Path, test: &std::path::Path, block: u32) -> Result<(), UserError> {
+    let r = load_finite(reference)?;
+    let t = load_finite(test)?;
     if (r.width, r.height) != (t.width, t.height) {
         return Err(UserError::in_file(test, format!("is {}x{}, the reference is {}x{}", t.width, t.height, r.width, r.height)));
     }

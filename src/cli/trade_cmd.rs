@@ -101,7 +101,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     }
     let reference = match &args.reference {
         Some(path) => {
-            let img = image_io::load(path)?;
+            let img = super::load_finite(path)?;
             if (img.width, img.height) != args.size {
                 return Err(UserError::in_file(path, format!("the reference is {}x{}, --size is {}x{}", img.width, img.height, args.size.0, args.size.1)));
             }

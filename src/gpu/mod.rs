@@ -34,10 +34,35 @@ pub struct Gpu {
 }
 
 /// How long glint waits for the GPU to finish submitted work before it
-/// gives up with an error: `GLINT_GPU_TIMEOUT_S`, 120 s by default.
+/// gives up with an error: `GLINT_GPU_TIMEOUT_S`, 120 s by default (a
+/// value that is not a usable number of seconds is refused when the GPU
+/// context is made, `check_gpu_timeout`).
 pub fn gpu_timeout() -> std::time::Duration {
-    let secs = std::env::var("GLINT_GPU_TIMEOUT_S").ok().and_then(|v| v.parse::<f64>().ok()).filter(|s| s.is_finite() && *s > 0.0).unwrap_or(120.0);
-    std::time::Duration::from_secs_f64(secs.min(1e6))
+    parse_gpu_timeout(std::env::var("GLINT_GPU_TIMEOUT_S").ok().as_deref()).unwrap_or(std::time::Duration::from_secs(120))
+}
+
+/// The most seconds `GLINT_GPU_TIMEOUT_S` may give (about 11.5 days).
+const MAX_GPU_TIMEOUT_S: f64 = 1e6;
+
+/// `GLINT_GPU_TIMEOUT_S` read: None when unset, else a positive finite
+/// number of seconds up to MAX_GPU_TIMEOUT_S, or what is wrong with it.
+pub fn parse_gpu_timeout(value: Option<&str>) -> Result<std::time::Duration, String> {
+    let Some(v) = value else { return Ok(std::time::Duration::from_secs(120)) };
+    let secs = v.trim().parse::<f64>().map_err(|_| {
+        let shown = if v.trim().is_empty() { " is empty".to_string() } else { format!("=`{v}` is not a number") };
+        format!("GLINT_GPU_TIMEOUT_S{shown}: give the seconds glint waits for the GPU before giving up, above 0 and at most {MAX_GPU_TIMEOUT_S} (unset: 120)")
+    })?;
+    if !(secs.is_finite() && secs > 0.0 && secs <= MAX_GPU_TIMEOUT_S) {
+        return Err(format!(
+            "GLINT_GPU_TIMEOUT_S=`{v}`: give the seconds glint waits for the GPU before giving up, above 0 and at most {MAX_GPU_TIMEOUT_S} (unset: 120)"
+        ));
+    }
+    Ok(std::time::Duration::from_secs_f64(secs))
+}
+
+/// Refuses a `GLINT_GPU_TIMEOUT_S` that is not a usable number of seconds.
+fn check_gpu_timeout() -> Result<(), UserError> {
+    parse_gpu_timeout(std::env::var("GLINT_GPU_TIMEOUT_S").ok().as_deref()).map(|_| ()).map_err(UserError::new)
 }
 
 const NO_ADAPTER_HELP: &str = "no GPU adapter found. glint needs Vulkan, Metal or DX12; on a machine \
@@ -179,6 +204,7 @@ impl Gpu {
 /// one; when none is found, an error that names the filter that matched
 /// nothing and lists the adapters there are.
 async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<wgpu::Adapter, UserError> {
+    check_gpu_timeout()?;
     let backend_var = std::env::var("WGPU_BACKEND").ok();
     let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
     if let (Some(v), true) = (&backend_var, backends.is_empty()) {
@@ -257,5 +283,22 @@ impl LiveObjects {
             + self.compute_pipelines
             + self.shader_modules
             + self.query_sets
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_gpu_timeout;
+    use std::time::Duration;
+
+    #[test]
+    fn gpu_timeout_takes_positive_finite_seconds_only() {
+        assert_eq!(parse_gpu_timeout(None), Ok(Duration::from_secs(120)));
+        assert_eq!(parse_gpu_timeout(Some("2.5")), Ok(Duration::from_secs_f64(2.5)));
+        for bad in ["0", "-1", "abc", "inf", "NaN", "", "1e7"] {
+            let e = parse_gpu_timeout(Some(bad)).expect_err(bad);
+            assert!(e.starts_with("GLINT_GPU_TIMEOUT_S") && e.contains("above 0"), "{bad}: {e}");
+        }
+        assert!(parse_gpu_timeout(Some("")).unwrap_err().contains("is empty"));
     }
 }

@@ -285,26 +285,24 @@ impl FrameGraph {
         Ok(graph)
     }
 
-    /// Texture sizes RON accepts but no texture has: a scale that is not a
-    /// positive finite number (NaN, inf, 0, negative) or that makes a side
-    /// of a 16384-pixel screen overflow, and fixed sides of 0.
+    /// Texture and dispatch sizes RON accepts but no texture or dispatch
+    /// has (`check_size`), and bad probe grids.
     fn check_sizes(&self, text: &str, path: &Path) -> Result<(), UserError> {
         for (name, r) in &self.resources {
             let ResourceDesc::Texture(t) = r;
-            let bad = match t.size {
-                SizeDesc::Scaled(s) if !(s.is_finite() && s > 0.0 && s <= 16.0) => {
-                    Some(format!("`Scaled({s})`: the scale must be a finite number in (0, 16]"))
-                }
-                SizeDesc::Fixed(w, h) if w == 0 || h == 0 => Some(format!("`Fixed({w}, {h})` is empty: both sides must be at least 1")),
-                SizeDesc::ProbeTiles(w, h) => self.check_tiles(w, h).err(),
-                _ => None,
-            };
-            let bad = bad.or_else(|| {
+            let bad = self.check_size(t.size).or_else(|| {
                 (t.history && t.persistent).then(|| "is both `history` (two textures, alternating) and `persistent` (one texture); pick one".to_string())
             });
             if let Some(message) = bad {
                 let line = crate::error::line_of(text, &format!("\"{name}\"")).unwrap_or(0);
                 return Err(UserError::at(crate::error::Location::at(path, line, 0), format!("resource `{name}`: {message}")));
+            }
+        }
+        for pass in &self.passes {
+            if let Some(message) = pass.dispatch.and_then(|d| self.check_size(d)) {
+                let line = crate::graph::pass_line(text, &pass.name).unwrap_or(0);
+                let message = format!("pass `{}`: dispatch {message}", pass.name);
+                return Err(UserError::at(crate::error::Location::at(path, line, 0), message));
             }
         }
         if let Some(p) = &self.probes {
@@ -321,6 +319,21 @@ impl FrameGraph {
             }
         }
         Ok(())
+    }
+
+    /// What is wrong with a texture's or a dispatch's size, if anything: a
+    /// scale that is not a positive finite number (NaN, inf, 0, negative)
+    /// or that makes a side of a 16384-pixel screen overflow, fixed sides
+    /// of 0, tiles without a probe grid.
+    fn check_size(&self, size: SizeDesc) -> Option<String> {
+        match size {
+            SizeDesc::Scaled(s) if !(s.is_finite() && s > 0.0 && s <= 16.0) => {
+                Some(format!("`Scaled({s})`: the scale must be a finite number in (0, 16]"))
+            }
+            SizeDesc::Fixed(w, h) if w == 0 || h == 0 => Some(format!("`Fixed({w}, {h})` is empty: both sides must be at least 1")),
+            SizeDesc::ProbeTiles(w, h) => self.check_tiles(w, h).err(),
+            _ => None,
+        }
     }
 
     /// A `ProbeTiles(w, h)` size: non-empty tiles, a `probes` grid to tile,

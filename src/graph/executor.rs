@@ -322,12 +322,9 @@ impl Executor {
             let bind_groups = [make_groups(0)?, make_groups(1)?];
             let workgroups = match tile_pool {
                 Some(_) => tile_pool::workgroups(gpu.info.device_type, sp.workgroup_size, size),
-                None => {
-                    let (w, h) = sp.dispatch.resolve(size);
-                    let w = w.div_ceil(sp.texels_per_invocation.max(1));
-                    let wg = sp.workgroup_size;
-                    [w.div_ceil(wg[0].max(1)), h.div_ceil(wg[1].max(1)), 1]
-                }
+                // Within the adapter's limits (`graph::check_dispatches`
+                // said so, located in the graph file, before this).
+                None => sp.workgroups(size).map(|n| u32::try_from(n).unwrap_or(u32::MAX)),
             };
             passes.push(PassGpu {
                 pipeline: Arc::clone(pipeline),

@@ -92,10 +92,37 @@ pub fn locate(e: &CompileError, path: &Path, text: &str) -> UserError {
     UserError::at(Location::at(path, line.unwrap_or(0), 0), e.to_string())
 }
 
+/// Each pass's workgroups at render size `size` within `limit` a side
+/// (the adapter's `max_compute_workgroups_per_dimension`): a graph's
+/// `dispatch` may ask for more than any device runs, which the driver
+/// would refuse frame after frame. The error names the pass's line.
+pub fn check_dispatches(graph: &CompiledGraph, size: (u32, u32), limit: u32) -> Result<(), UserError> {
+    for sp in &graph.schedule.passes {
+        if sp.bindings.iter().any(|b| b.target == schedule::Target::TilePool) {
+            continue;
+        }
+        let groups = sp.workgroups(size);
+        if groups.iter().all(|&n| n <= u64::from(limit)) {
+            continue;
+        }
+        let (w, h) = sp.dispatch.resolve(size);
+        let [x, y, _] = sp.workgroup_size;
+        let text = std::fs::read_to_string(&graph.path).unwrap_or_default();
+        let name = sp.name.split('#').next().unwrap_or(&sp.name);
+        let line = pass_line(&text, name).unwrap_or(0);
+        let message = format!(
+            "pass `{name}`: its dispatch of {w}x{h} invocations makes {}x{} workgroups of {x}x{y}; this adapter runs at most {limit} a side: make the dispatch smaller",
+            groups[0], groups[1]
+        );
+        return Err(UserError::at(Location::at(&graph.path, line, 0), message));
+    }
+    Ok(())
+}
+
 /// The line of the pass named `pass`: the `"pass"` that follows `name:`
 /// after the `passes:` key (the graph's own name, a resource or a binding
 /// may be spelled the same), else its first mention. Comments are skipped.
-fn pass_line(text: &str, pass: &str) -> Option<usize> {
+pub(crate) fn pass_line(text: &str, pass: &str) -> Option<usize> {
     let code = crate::error::blank_comments(text);
     let quoted = format!("\"{pass}\"");
     let start = code.find("passes").unwrap_or(0);

@@ -231,6 +231,19 @@ pub struct ScheduledPass {
     pub writes: Vec<String>,
 }
 
+impl ScheduledPass {
+    /// Workgroups of a plain dispatch at render size `size` (a pass that
+    /// takes its texels from the tile pool sizes its own,
+    /// `tile_pool::workgroups`), in u64: a graph's `Fixed` dispatch may
+    /// ask for more than a u32 holds.
+    pub fn workgroups(&self, size: (u32, u32)) -> [u64; 3] {
+        let (w, h) = self.dispatch.resolve(size);
+        let w = w.div_ceil(self.texels_per_invocation.max(1));
+        let wg = self.workgroup_size;
+        [u64::from(w).div_ceil(u64::from(wg[0].max(1))), u64::from(h).div_ceil(u64::from(wg[1].max(1))), 1]
+    }
+}
+
 /// Why compile left a pass out.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum CullReason {

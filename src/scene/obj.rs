@@ -88,8 +88,11 @@ pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String
                 }
             }
             // Zero-area triangles can never be hit properly and have no
-            // normal: drop them.
-            let Some(flat) = (p[1] - p[0]).cross(p[2] - p[0]).try_normalize() else {
+            // normal: drop them. In f64: the cross product of edges above
+            // about 1e19 (and its squared length above 1e17) overflows f32,
+            // and a huge triangle must reach the range check, not vanish.
+            let [a, b, c] = p.map(|v| v.as_dvec3());
+            let Some(flat) = (b - a).cross(c - a).try_normalize().map(|n| n.as_vec3()) else {
                 continue;
             };
             // A missing or broken vertex normal falls back to the face normal.

@@ -194,6 +194,7 @@ impl Session {
         let mut constants = scene.engine_constants();
         constants.push(tile_pool::constant(gpu.info.device_type));
         let set = PipelineCache::default().build(&gpu.device, &graph, &constants)?;
+        graph::check_dispatches(&graph, options.size, gpu.device.limits().max_compute_workgroups_per_dimension)?;
         let executor = Executor::new(gpu, &graph.schedule, &set.per_pass, &|e| scene.binding(e, &frame_buffer), options.size, None)?;
         Ok(Session {
             gpu: gpu.clone(),
@@ -448,6 +449,7 @@ impl Session {
         let unchanged = matches!(r.kind, RebuildKind::Shaders(_)) && r.pipelines.built.is_empty() && same_text(&r.graph, &self.graph);
         let scene = r.scene.as_ref().unwrap_or(&self.scene);
         let frame_buffer = &self.frame_buffer;
+        graph::check_dispatches(&r.graph, self.size, self.gpu.device.limits().max_compute_workgroups_per_dimension)?;
         let executor = Executor::new(&self.gpu, &r.graph.schedule, &r.pipelines.per_pass, &|e| scene.binding(e, frame_buffer), self.size, Some(&self.executor))?;
         let report = ReloadReport {
             kind: r.kind,

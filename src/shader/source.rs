@@ -121,6 +121,7 @@ fn expand(path: &Path, dir: &Path, from: Option<Location>, src: &mut ShaderSourc
     if src.files.iter().any(|f| f == path) {
         return Ok(());
     }
+    check_resolved_inside(path, dir, from.as_ref())?;
     let text = std::fs::read_to_string(path).map_err(|e| match &from {
         Some(loc) => UserError::at(loc.clone(), format!("cannot import {}: {e}", path.display())),
         None => UserError::in_file(path, format!("cannot read the shader: {e}")),
@@ -132,6 +133,22 @@ fn expand(path: &Path, dir: &Path, from: Option<Location>, src: &mut ShaderSourc
     src.files.push(path.to_path_buf());
     let index = src.files.len() - 1;
     expand_lines(&text, index, dir, src)
+}
+
+/// A name inside the shader folder may still be a link that leads out of
+/// it (`shaders/x.wgsl -> /etc/passwd`): the file is resolved before it is
+/// read, and one outside the folder is refused without reading it. A file
+/// that does not resolve is left to the read, which says it is missing.
+fn check_resolved_inside(path: &Path, dir: &Path, from: Option<&Location>) -> Result<(), UserError> {
+    let (Ok(real), Ok(root)) = (std::fs::canonicalize(path), std::fs::canonicalize(dir)) else { return Ok(()) };
+    if real.starts_with(&root) {
+        return Ok(());
+    }
+    let rest = format!("leads to {}, outside the shader folder {}: shaders and their imports must be inside it (links included)", real.display(), root.display());
+    Err(match from {
+        Some(loc) => UserError::at(loc.clone(), format!("{} {rest}", path.display())),
+        None => UserError::in_file(path, format!("the shader {rest}")),
+    })
 }
 
 fn expand_lines(text: &str, file: usize, dir: &Path, src: &mut ShaderSource) -> Result<(), UserError> {

@@ -36,6 +36,8 @@ pub const PANEL_WIDTH: f32 = 340.0;
 /// The window's least height: the side panel's sections fit without
 /// scrolling (logical pixels).
 const MIN_WINDOW_HEIGHT: u32 = 760;
+/// The largest window side asked for, in logical pixels.
+const MAX_WINDOW_SIDE: f64 = 8192.0;
 
 /// Milliseconds between window frames while a scene frame is running.
 const UI_WHILE_RENDERING_MS: u64 = 40;
@@ -126,9 +128,17 @@ fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> 
 impl Viewer {
     pub fn new(event_loop: &ActiveEventLoop, options: ViewOptions, scene: crate::scene::Scene) -> Result<Viewer, UserError> {
         let (w, h) = options.size;
+        // The window asks for at most MAX_WINDOW_SIDE a side whatever the
+        // render size (the image is shown scaled; X11 takes no side above
+        // 65535, and winit panics on one); a size no adapter renders is
+        // refused by the session, as `render` refuses it.
+        let (max_w, max_h) = (MAX_WINDOW_SIDE, MAX_WINDOW_SIDE);
         let attrs = Window::default_attributes()
             .with_title(format!("glint: {}", options.scene.display()))
-            .with_inner_size(winit::dpi::LogicalSize::new(f64::from(w) + f64::from(PANEL_WIDTH), f64::from(h.max(MIN_WINDOW_HEIGHT))));
+            .with_inner_size(winit::dpi::LogicalSize::new(
+                (f64::from(w) + f64::from(PANEL_WIDTH)).min(max_w),
+                f64::from(h.max(MIN_WINDOW_HEIGHT)).min(max_h),
+            ));
         let window = Arc::new(event_loop.create_window(attrs).map_err(|e| UserError::new(format!("cannot open a window: {e}")))?);
         let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
         let instance = wgpu::Instance::new(descriptor);
