@@ -125,10 +125,15 @@ pub fn line_of_nth(text: &str, needle: &str, n: usize, from: usize) -> Option<us
 
 /// Converts a RON parse error into a `UserError` at its position.
 pub fn ron_error(file: &Path, err: &ron::error::SpannedError) -> UserError {
-    UserError::at(
-        Location::at(file, err.span.start.line, err.span.start.col),
-        format!("{}", err.code),
-    )
+    // ron's own advice here is for a program's author (raise the limit,
+    // add a crate); the user's file is what nests too deep.
+    let message = match &err.code {
+        ron::Error::ExceededRecursionLimit => {
+            "brackets nested too deep here (over 128 levels); glint's graph and scene files nest a few levels at most".to_string()
+        }
+        code => code.to_string(),
+    };
+    UserError::at(Location::at(file, err.span.start.line, err.span.start.col), message)
 }
 
 #[cfg(test)]

@@ -247,15 +247,46 @@ fn round_two_is_a_clear_error() {
             vec!["nan.pfm", "1 pixels hold NaN or infinite values"],
         ));
     }
+    // A graph of one pass in a folder of its own (passes/, shaders/).
+    let ws = dir.join("ws");
+    std::fs::create_dir_all(ws.join("shaders/shared")).unwrap();
+    std::fs::create_dir_all(ws.join("passes")).unwrap();
+    let one_pass = |name: &str| {
+        let path = ws.join(format!("passes/{name}.ron"));
+        let text = format!("FrameGraph(name: \"{name}\", resources: {{ \"out_tex\": Texture(format: Rgba32Float) }},\n  passes: [ Pass(name: \"{name}\", shader: \"{name}.wgsl\") ], output: \"out_tex\")\n");
+        std::fs::write(&path, text).unwrap();
+        path.display().to_string()
+    };
+    std::fs::write(
+        ws.join("shaders/wide.wgsl"),
+        "@group(0) @binding(0) var out_tex: texture_storage_2d<rgba32float, write>;\n\n@compute @workgroup_size(1024, 1024)\nfn main(@builtin(global_invocation_id) id: vec3u) {\n    textureStore(out_tex, id.xy, vec4f(1.0));\n}\n",
+    )
+    .unwrap();
+    let wide = one_pass("wide");
+    let wrong_param = dir.join("wrong-param.ron");
+    std::fs::write(&wrong_param, text.replacen("params: { jitter: 1 }", "params: { jitter: \"yes\" }", 1)).unwrap();
+    let wrong_param = wrong_param.display().to_string();
+    let deep = dir.join("deep.ron");
+    std::fs::write(&deep, text.replacen("params: { jitter: 1 }", &format!("params: {{ {}{}: 1 }}", "[".repeat(300), "]".repeat(300)), 1)).unwrap();
+    let deep = deep.display().to_string();
+    let realtime = std::fs::read_to_string(repo().join("passes/realtime.ron")).unwrap();
+    let constant = dir.join("constant.ron");
+    std::fs::write(&constant, realtime.replacen("constants: { STEP: 1 }", "constants: { STEP: 1e30 }", 1)).unwrap();
+    let constant = constant.display().to_string();
+    cases.extend([
+        ("a param of the wrong type", vec!["graph", "check", &wrong_param], vec![], vec!["wrong-param.ron:19:", "a param value: a number", "found the string \"yes\""]),
+        ("brackets nested 300 deep", vec!["graph", "check", &deep], vec![], vec!["deep.ron:19:", "nested too deep"]),
+        ("an override of 1e30", vec!["graph", "check", &constant, "--scene", "scenes/cornell.ron"], vec![], vec!["constant.ron:", "pass `atrous_1`: constant `STEP` = 1e30 does not fit the shader's `override STEP: i32`"]),
+        ("WGPU_BACKEND=gl", vec!["render", "scenes/cornell.ron", "--size", "8x8", "--out", &out], vec![("WGPU_BACKEND", "gl")], vec!["WGPU_BACKEND=gl: glint does not run on wgpu's GL backend"]),
+    ]);
+    if gpu().is_some() {
+        cases.push(("a 1024x1024 workgroup", vec!["render", "scenes/cornell.ron", "--graph", &wide, "--size", "8x8", "--out", &out], vec![], vec!["wide.wgsl:3:", "`@workgroup_size(1024, 1024, 1)` of `main` makes 1048576 invocations a workgroup"]));
+    }
     // A link inside the shader folder that leads out of it.
     #[cfg(unix)]
     let link_graph = {
-        let ws = dir.join("ws");
-        std::fs::create_dir_all(ws.join("shaders/shared")).unwrap();
-        std::fs::create_dir_all(ws.join("passes")).unwrap();
         std::os::unix::fs::symlink("/etc/passwd", ws.join("shaders/evil.wgsl")).unwrap();
-        std::fs::write(ws.join("passes/evil.ron"), "FrameGraph(name: \"evil\", resources: { \"out_tex\": Texture(format: Rgba32Float) },\n  passes: [ Pass(name: \"evil\", shader: \"evil.wgsl\") ], output: \"out_tex\")\n").unwrap();
-        ws.join("passes/evil.ron").display().to_string()
+        one_pass("evil")
     };
     #[cfg(unix)]
     cases.push(("a shader linked out of the shader folder", vec!["graph", "check", &link_graph], vec![], vec!["evil.wgsl", "leads to /etc/passwd, outside the shader folder"]));

@@ -208,12 +208,24 @@ async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<
     let backend_var = std::env::var("WGPU_BACKEND").ok();
     let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
     if let (Some(v), true) = (&backend_var, backends.is_empty()) {
-        return Err(UserError::new(format!("WGPU_BACKEND=`{v}` names no backend glint knows; use vulkan, metal, dx12 or gl (a comma-separated list picks several)")));
+        return Err(UserError::new(format!("WGPU_BACKEND=`{v}` names no backend glint knows; use vulkan, metal or dx12 (a comma-separated list picks several)")));
+    }
+    if backends == wgpu::Backends::GL {
+        return Err(UserError::new(
+            "WGPU_BACKEND=gl: glint does not run on wgpu's GL backend (it offers no write-only rg32uint storage textures, which the G-buffers are, \
+             and its shader translation refuses parts of the path tracer); use vulkan, metal or dx12 (on a machine without a GPU: WGPU_BACKEND=vulkan \
+             with Mesa's lavapipe)",
+        ));
     }
     let mut adapters = instance.enumerate_adapters(backends).await;
     if let Some(s) = surface {
         adapters.retain(|a| a.is_surface_supported(s));
     }
+    // wgpu's GL backend cannot run glint's passes: it offers no write-only
+    // storage textures of the formats the G-buffers use (rg32uint), and its
+    // shader translation refuses some of what the path tracer writes. Its
+    // adapters are left out; asked for alone, it is refused in words.
+    adapters.retain(|a| a.get_info().backend != wgpu::Backend::Gl);
     let list = |adapters: &[wgpu::Adapter]| {
         let names: Vec<String> = adapters.iter().map(|a| {
             let i = a.get_info();
@@ -232,18 +244,13 @@ async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<
             UserError::new(format!("WGPU_ADAPTER_NAME=`{name}` matches none of the adapters there are: {all}"))
         });
     }
-    // Prefer discrete, then integrated, then anything; Vulkan over GL.
-    let rank = |a: &wgpu::Adapter| {
-        let i = a.get_info();
-        let ty = match i.device_type {
-            wgpu::DeviceType::DiscreteGpu => 0,
-            wgpu::DeviceType::IntegratedGpu => 1,
-            wgpu::DeviceType::VirtualGpu => 2,
-            wgpu::DeviceType::Cpu => 3,
-            wgpu::DeviceType::Other => 4,
-        };
-        let backend = if i.backend == wgpu::Backend::Gl { 1 } else { 0 };
-        (backend, ty)
+    // Prefer discrete, then integrated, then anything.
+    let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
     };
     adapters.into_iter().min_by_key(rank).ok_or_else(|| UserError::new(NO_ADAPTER_HELP))
 }

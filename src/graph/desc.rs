@@ -185,8 +185,7 @@ impl RunMode {
 }
 
 /// A value for one member of a pass's `params` uniform.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum ParamValue {
     /// `true` or `false`, packed as 1 or 0.
     Bool(bool),
@@ -196,6 +195,68 @@ pub enum ParamValue {
     Float(f64),
     /// One number per component of a vector member.
     Vector(Vec<f64>),
+}
+
+/// Read by hand rather than as an untagged enum, whose error names serde's
+/// internals (`data did not match any variant of untagged enum
+/// ParamValue`): a value of the wrong kind says what a param value is.
+impl<'de> Deserialize<'de> for ParamValue {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<ParamValue, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = ParamValue;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a param value: a number (`4`, `0.5`), `true` or `false`, or a list of numbers (`[1.0, 0.5, 0.2]`)")
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<ParamValue, E> {
+                Ok(ParamValue::Bool(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<ParamValue, E> {
+                Ok(ParamValue::Int(v))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ParamValue, E> {
+                // Beyond i64 it is no u32 or i32 either: as a float, the
+                // member's range check refuses it with its value.
+                Ok(i64::try_from(v).map_or(ParamValue::Float(v as f64), ParamValue::Int))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<ParamValue, E> {
+                Ok(ParamValue::Float(v))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<ParamValue, A::Error> {
+                let mut values = Vec::new();
+                while let Some(v) = seq.next_element::<NumberOnly>()? {
+                    values.push(v.0);
+                }
+                Ok(ParamValue::Vector(values))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
+/// One component of a vector param: a number, nothing else.
+struct NumberOnly(f64);
+
+impl<'de> Deserialize<'de> for NumberOnly {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<NumberOnly, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = NumberOnly;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number (a vector param is a list of numbers, `[1.0, 0.5, 0.2]`)")
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<NumberOnly, E> {
+                Ok(NumberOnly(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<NumberOnly, E> {
+                Ok(NumberOnly(v as f64))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<NumberOnly, E> {
+                Ok(NumberOnly(v))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 /// One pass of a graph (`Pass(...)`): a compute shader and what it binds.

@@ -292,7 +292,31 @@ fn shader_location(sp: &ScheduledPass, shader: &Shader) -> String {
     shader.source.files.first().map(|f| f.display().to_string()).unwrap_or_else(|| sp.shader.clone())
 }
 
+/// The entry's `@workgroup_size` within the adapter's limits, else an
+/// error at the attribute's line (the driver's own is a bare "Validation
+/// Error").
+fn check_workgroup_size(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader) -> Result<(), UserError> {
+    let limits = device.limits();
+    let [x, y, z] = sp.workgroup_size;
+    let side = [limits.max_compute_workgroup_size_x, limits.max_compute_workgroup_size_y, limits.max_compute_workgroup_size_z];
+    let total = u64::from(x) * u64::from(y) * u64::from(z);
+    let most = limits.max_compute_invocations_per_workgroup;
+    if total <= u64::from(most) && x <= side[0] && y <= side[1] && z <= side[2] {
+        return Ok(());
+    }
+    // The attribute above the entry's `fn`.
+    let text = &shader.source.text;
+    let at_fn = text.find(&format!("fn {}(", sp.entry)).unwrap_or(text.len());
+    let line = text[..at_fn].rfind("@workgroup_size").map_or(0, |i| text[..i].matches('\n').count() + 1);
+    let message = format!(
+        "`@workgroup_size({x}, {y}, {z})` of `{}` makes {total} invocations a workgroup; this adapter runs at most {most}, and {}, {}, {} a side",
+        sp.entry, side[0], side[1], side[2]
+    );
+    Err(UserError::at(shader.source.original(line, 1), message))
+}
+
 fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
+    check_workgroup_size(device, sp, shader)?;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(&sp.shader),

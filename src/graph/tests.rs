@@ -521,9 +521,15 @@ fn the_engines_per_frame_constant_is_not_the_graphs() {
 #[test]
 fn bad_constant() {
     let e = fail_with(&with_constants("SCALE: 1.0, FAST: 2"), &[constants_shader()]);
-    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `FAST` is Bool"]);
+    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `FAST` = 2 does not fit the shader's `override FAST: bool`: give 0 or 1"]);
     let e = fail_with(&with_constants("SCALE: 1.0, MODE: 0.5"), &[constants_shader()]);
-    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `MODE` is U32"]);
+    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `MODE` = 0.5 does not fit the shader's `override MODE: u32`"]);
+    // Within the type's range, not only of its kind (the driver refused
+    // 1e30 with a bare "Validation Error").
+    let e = fail_with(&with_constants("SCALE: 1.0, MODE: 1e30"), &[constants_shader()]);
+    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `MODE` = 1e30 does not fit", "an integer from 0 to 4294967295"]);
+    let e = fail_with(&with_constants("SCALE: 1e39, MODE: 1"), &[constants_shader()]);
+    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `SCALE` = 1e39 does not fit the shader's `override SCALE: f32`"]);
 }
 
 // ---------------------------------------------------------------------------

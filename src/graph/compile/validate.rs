@@ -385,14 +385,23 @@ fn check_constants(pass: &PassDesc, shader: &ShaderInfo) -> Result<Vec<(String, 
         if k == crate::graph::pipelines::CAMERA_STILL {
             return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is set by the engine per frame (a still camera picks its pipeline); a graph cannot set it")));
         }
-        let fits = match o.scalar {
-            ScalarType::F32 => v.is_finite(),
-            ScalarType::U32 => v.fract() == 0.0 && *v >= 0.0,
-            ScalarType::I32 => v.fract() == 0.0,
-            ScalarType::Bool => *v == 0.0 || *v == 1.0,
+        // Within the type's range too: the driver refuses a pipeline
+        // constant that does not fit with a bare "Validation Error".
+        let (fits, range) = match o.scalar {
+            ScalarType::F32 => (v.is_finite() && v.abs() <= f64::from(f32::MAX), "a finite number within +-3.4e38"),
+            ScalarType::U32 => (v.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(v), "an integer from 0 to 4294967295"),
+            ScalarType::I32 => (v.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(v), "an integer from -2147483648 to 2147483647"),
+            ScalarType::Bool => (*v == 0.0 || *v == 1.0, "0 or 1 (false or true)"),
         };
         if !fits {
-            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is {:?}; {v} does not fit", o.scalar)));
+            let ty = match o.scalar {
+                ScalarType::F32 => "f32",
+                ScalarType::U32 => "u32",
+                ScalarType::I32 => "i32",
+                ScalarType::Bool => "bool",
+            };
+            let shown = if v.is_finite() && (v.abs() >= 1e6 || (v.abs() < 1e-3 && *v != 0.0)) { format!("{v:e}") } else { format!("{v}") };
+            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` = {shown} does not fit the shader's `override {k}: {ty}`: give {range}")));
         }
     }
     if let Some(o) = shader.overrides.iter().find(|o| !o.has_default && !pass.constants.contains_key(&o.name)) {
