@@ -65,6 +65,28 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
     return vec3f(0.0);
 }
 
+// Point lights are deltas no ray finds: each one visible from probe
+// position p whose direction falls in bucket `texel` gives the radiance
+// that spreads its irradiance I / d^2 over the bucket's solid angle, so
+// `integrate` counts it (at the bucket's cosine) like any light the probe
+// sees. Without it a surface lit only by point lights, seen from the
+// probes' side, had no light in the volume.
+fn point_lights_in_bucket(p: vec3f, texel: vec2u, s: u32) -> vec3f {
+    var sum = vec3f(0.0);
+    let solid_angle = 2.0 * PROBE_PI / f32(s * s);
+    for (var i = 0u; i < light_count(); i++) {
+        let l = load_light(i);
+        if l.kind != LIGHT_POINT {
+            continue;
+        }
+        let ls = sample_light(l, p, vec2f(0.5));
+        if ls.valid && all(hemisphere_texel(ls.dir, s) == texel) && light_visible(i, p, ls) {
+            sum += ls.weight / solid_angle;
+        }
+    }
+    return sum;
+}
+
 @compute @workgroup_size(8, 8)
 fn radiance(@builtin(global_invocation_id) id: vec3u) {
     // First thing, where every lane runs (see trace_pair).
@@ -84,6 +106,9 @@ fn radiance(@builtin(global_invocation_id) id: vec3u) {
         l = diffuse_radiance(origin, dir);
     } else {
         l = trace_path(&flat, origin, dir, params.bounces, params.rr_depth, params.emitters != 0u, &rng);
+        if params.emitters != 0u {
+            l += point_lights_in_bucket(origin, id.xy % vec2u(2u * s, s), s);
+        }
     }
     let before = textureLoad(thesis_radiance, id.xy);
     let n = f32(run.since_change) + 1.0;

@@ -23,21 +23,43 @@ pub struct ProbeGrid {
 /// The default padding: the share of the extent left free on each side.
 pub const DEFAULT_PADDING: f32 = 0.1;
 
+/// An axis whose extent is under this share of the largest is flat.
+pub const FLAT_SHARE: f32 = 1e-3;
+/// A flat axis's probe layer: its thickness as a share of the largest
+/// extent, and its lift off the plane as a share of that thickness.
+pub const FLAT_THICKNESS: f32 = 0.25;
+/// See FLAT_THICKNESS.
+pub const FLAT_LIFT: f32 = 0.05;
+
 impl ProbeGrid {
     /// `level + 1` probes per axis over `lo..hi` shrunk by `padding` of the
-    /// extent on each side. A flat axis (zero extent) still gets a cell of
-    /// unit size around its plane. `None` when the bounds are not finite.
-    pub fn over_bounds(lo: Vec3, hi: Vec3, level: u32, padding: f32) -> Option<ProbeGrid> {
+    /// extent on each side. `None` when the bounds are not finite.
+    ///
+    /// A flat axis (an extent under FLAT_SHARE of the largest: a scene in
+    /// one plane) gets a layer of probes on one side of its plane, the side
+    /// of `toward` (where the light is), FLAT_THICKNESS of the largest
+    /// extent thick and starting FLAT_LIFT of that above the plane: probes
+    /// on the plane itself would see half their rays start on its surface,
+    /// and a layer on both sides would average the lit side with the dark.
+    /// Points on the plane clamp to the nearest layer.
+    pub fn over_bounds(lo: Vec3, hi: Vec3, level: u32, padding: f32, toward: Vec3) -> Option<ProbeGrid> {
         if !(lo.is_finite() && hi.is_finite()) || level == 0 || !(0.0..0.5).contains(&padding) {
             return None;
         }
         let extent = (hi - lo).max(Vec3::ZERO);
+        let largest = extent.max_element();
         let pad = extent * padding;
         let (lo, hi) = (lo + pad, hi - pad);
-        let span = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
-        let flat = span.cmple(Vec3::splat(1e-30));
-        let span = Vec3::select(flat, Vec3::ONE, span);
-        let origin = Vec3::select(flat, lo - Vec3::splat(0.5), lo);
+        let span = (hi - lo).max(Vec3::ZERO);
+        let flat = if largest > 0.0 { extent.cmplt(Vec3::splat(FLAT_SHARE * largest)) } else { glam::BVec3::TRUE };
+        // A point (every axis flat) gets a unit cube's layers.
+        let thick = if largest > 0.0 { FLAT_THICKNESS * largest } else { 1.0 };
+        let plane = (lo + hi) * 0.5;
+        let above = Vec3::select(toward.cmplt(plane), Vec3::ZERO, Vec3::ONE).cmpeq(Vec3::ONE);
+        let lift = FLAT_LIFT * thick;
+        let flat_origin = Vec3::select(above, plane + Vec3::splat(lift), plane - Vec3::splat(lift + thick));
+        let origin = Vec3::select(flat, flat_origin, lo);
+        let span = Vec3::select(flat, Vec3::splat(thick), span.max(Vec3::splat(f32::MIN_POSITIVE)));
         Some(ProbeGrid { origin, spacing: span / level as f32, counts: UVec3::splat(level + 1) })
     }
 
@@ -86,7 +108,7 @@ mod tests {
     use super::*;
 
     fn grid() -> ProbeGrid {
-        ProbeGrid::over_bounds(Vec3::splat(-1.0), Vec3::splat(1.0), 7, DEFAULT_PADDING).unwrap()
+        ProbeGrid::over_bounds(Vec3::splat(-1.0), Vec3::splat(1.0), 7, DEFAULT_PADDING, Vec3::ZERO).unwrap()
     }
 
     fn check(g: &ProbeGrid, x: Vec3) -> [(u32, f32); 8] {
@@ -147,12 +169,31 @@ mod tests {
 
     #[test]
     fn bad_bounds_and_flat_scenes() {
-        assert!(ProbeGrid::over_bounds(Vec3::NAN, Vec3::ONE, 7, 0.1).is_none());
-        assert!(ProbeGrid::over_bounds(Vec3::ZERO, Vec3::ONE, 0, 0.1).is_none());
-        assert!(ProbeGrid::over_bounds(Vec3::ZERO, Vec3::ONE, 3, 0.5).is_none());
-        // A flat scene (a single quad) still has cells around its plane.
-        let g = ProbeGrid::over_bounds(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 0.0, 1.0), 3, 0.1).unwrap();
+        assert!(ProbeGrid::over_bounds(Vec3::NAN, Vec3::ONE, 7, 0.1, Vec3::ZERO).is_none());
+        assert!(ProbeGrid::over_bounds(Vec3::ZERO, Vec3::ONE, 0, 0.1, Vec3::ZERO).is_none());
+        assert!(ProbeGrid::over_bounds(Vec3::ZERO, Vec3::ONE, 3, 0.5, Vec3::ZERO).is_none());
+        // A flat scene (a single quad in y = -1, the light above it): a
+        // layer of probes above the plane, none on it, the plane's points
+        // taking the lowest layer.
+        let (lo, hi) = (Vec3::new(-1.0, -1.0, -1.0), Vec3::new(1.0, -1.0, 1.0));
+        let g = ProbeGrid::over_bounds(lo, hi, 3, 0.1, Vec3::new(0.0, 0.5, 0.0)).unwrap();
         assert!(g.spacing.min_element() > 0.0);
-        check(&g, Vec3::new(0.1, 0.0, 0.2));
+        let (lowest, highest) = (g.position(UVec3::ZERO).y, g.position(UVec3::splat(3)).y);
+        assert!(lowest > -1.0 + 1e-3 && (lowest - (-1.0 + 0.025)).abs() < 1e-5, "{lowest}");
+        assert!((highest - lowest - 0.5).abs() < 1e-5, "{highest}");
+        let (base, f) = g.cell(Vec3::new(0.1, -1.0, 0.2));
+        assert_eq!((base.y, f.y), (0, 0.0));
+        check(&g, Vec3::new(0.1, -1.0, 0.2));
+        // The light below: the layer below.
+        let g = ProbeGrid::over_bounds(lo, hi, 3, 0.1, Vec3::new(0.0, -3.0, 0.0)).unwrap();
+        assert!(g.position(UVec3::splat(3)).y < -1.0 - 1e-3);
+        // Nearly flat (a millionth of the width) counts as flat; the other
+        // axes keep their padding.
+        let g = ProbeGrid::over_bounds(lo, hi + Vec3::new(0.0, 2e-6, 0.0), 3, 0.1, Vec3::ZERO).unwrap();
+        assert!(g.position(UVec3::ZERO).y > -1.0 + 1e-3);
+        assert!((g.position(UVec3::ZERO).x - (-0.8)).abs() < 1e-5);
+        // A point: unit layers on every axis.
+        let g = ProbeGrid::over_bounds(Vec3::ZERO, Vec3::ZERO, 3, 0.1, Vec3::ONE).unwrap();
+        assert!(g.spacing.min_element() > 0.0);
     }
 }

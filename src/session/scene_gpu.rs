@@ -15,7 +15,7 @@ use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::EngineResource;
 use crate::scene::buffers::{scene_texture_rows, SceneBuffers, SCENE_TEXTURE_WIDTH};
-use crate::scene::{Scene, SceneData, FLAT_LIMIT};
+use crate::scene::{Light, Scene, SceneData, Transform, FLAT_LIMIT};
 
 /// The override in `shaders/shared/intersect.wgsl` the engine sets from the
 /// scene (unless a graph sets it): whether rays test every primitive
@@ -97,9 +97,13 @@ impl SceneGpu {
 
     /// The graph's probe grid over the bounds as loaded, relative to the
     /// current origin (f64 until the subtraction, like every position).
+    /// A flat scene's probe layer goes to the side of its lights (their
+    /// mean position; the camera's where there are none).
     pub fn probe_grid(&self, probes: Option<crate::graph::desc::ProbesDesc>) -> Option<crate::probes::ProbeGrid> {
         let (p, (lo, hi)) = (probes?, self.bounds?);
-        crate::probes::ProbeGrid::over_bounds((lo - self.origin).as_vec3(), (hi - self.origin).as_vec3(), p.level, p.padding)
+        let lights: Vec<DVec3> = self.scene.world.query::<(&Transform, &Light)>().iter().map(|(t, _)| t.translation).collect();
+        let toward = if lights.is_empty() { self.scene.camera.position } else { lights.iter().sum::<DVec3>() / lights.len() as f64 };
+        crate::probes::ProbeGrid::over_bounds((lo - self.origin).as_vec3(), (hi - self.origin).as_vec3(), p.level, p.padding, (toward - self.origin).as_vec3())
     }
 
     /// Moves the scene to time `t` and, unless the origin is pinned,
