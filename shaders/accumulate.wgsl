@@ -116,7 +116,7 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> Histor
 fn still_history(h: History, g: vec4f) -> History {
     let miss = g.w < 0.0;
     let cam = frame.prev_camera;
-    let then_z = dot(select(g.xyz, cam.origin + g.xyz, miss) - cam.origin, cam.forward);
+    let then_z = dot(select(g.xyz, miss_point(cam, g.xyz), miss) - cam.origin, cam.forward);
     if then_z <= 0.0 || h.count == 0u {
         return History(Mean(vec3f(0.0), vec3f(0.0)), 0u);
     }

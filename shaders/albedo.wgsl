@@ -3,7 +3,7 @@
 // Also seeds `lit` with what needs no lighting: emission and background.
 #import scene
 
-@group(0) @binding(0) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(0) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(1) var albedo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var lit: texture_storage_2d<rgba32float, write>;
 

@@ -12,7 +12,7 @@ struct Params {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, write>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rgba32uint, write>;
 
 const SALT: u32 = 0x67627566u;
 
@@ -36,5 +36,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let normal = vec4f(facing(hit, rd).n, material_specular(hit.material));
     textureStore(gbuf_pos, id.xy, select(vec4f(rd, -1.0), vec4f(hit.position, hit.t), found));
     textureStore(gbuf_normal, id.xy, select(vec4f(0.0), normal, found));
-    textureStore(gbuf_id, id.xy, select(vec4u(NO_HIT, NO_HIT, 0u, 0u), vec4u(hit.material, hit.object, 0u, 0u), found));
+    // z: the hit's error bound (f32 bits), which the passes that start
+    // rays here offset them by (offset_by).
+    let error = bitcast<u32>(gbuffer_offset_error(hit));
+    textureStore(gbuf_id, id.xy, select(vec4u(NO_HIT, NO_HIT, 0u, 0u), vec4u(hit.material, hit.object, error, 0u), found));
 }

@@ -13,7 +13,7 @@
 
 @group(0) @binding(0) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(1) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(2) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(2) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(3) var albedo: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
@@ -49,6 +49,8 @@ struct Surface {
     lit: bool,
     p: vec3f,
     n: vec3f,
+    // The hit's error along n (gbuf_id.z).
+    error: f32,
     base: vec3f,
     before: vec4f,
 }
@@ -57,12 +59,12 @@ fn surface(id: vec3u) -> Surface {
     let before = textureLoad(lit_in, id.xy);
     let ids = textureLoad(gbuf_id, id.xy);
     if !is_lit_surface(ids) {
-        return Surface(false, vec3f(0.0), vec3f(0.0), vec3f(0.0), before);
+        return Surface(false, vec3f(0.0), vec3f(0.0), 0.0, vec3f(0.0), before);
     }
     let p = textureLoad(gbuf_pos, id.xy).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     let base = textureLoad(albedo, id.xy).rgb * (1.0 - material_specular(ids.x));
-    return Surface(true, p, n, base, before);
+    return Surface(true, p, n, bitcast<f32>(ids.z), base, before);
 }
 
 // `lit` plus the diffuse light irradiance `e` gives the surface.
@@ -128,7 +130,7 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
         }
         let f = facing(hit, dir);
         let n = f.n;
-        let next = offset_ray(hit.position, f.ng);
+        let next = offset_ray(hit.position, f.ng, hit.error);
         let base = m.albedo * (1.0 - m.specular);
         if max3(base) > 0.0 {
             var e = ddgi_irradiance_at(hit.position, n, -dir);
@@ -180,7 +182,7 @@ fn ddgi_gather(@builtin(global_invocation_id) id: vec3u, @builtin(workgroup_id) 
     }
     let weight = f32(max(GATHER_PHASES, 1u));
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
-    let o = offset_ray(s.p, s.n);
+    let o = offset_by(s.p, s.n, s.error);
     let dir = sample_cosine(s.n, rand2(&rng));
     let l = gather(o, dir, &rng);
     // Cosine sampling: albedo / pi x L cos / pdf = albedo x L, which

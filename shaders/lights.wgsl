@@ -29,7 +29,7 @@ struct Params {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
 
@@ -46,7 +46,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // One store, the light added only where a lit surface is: CPU drivers
     // run every branch under a lane mask, so an early store for the other
     // pixels would be a second store for all of them.
-    textureStore(lit, id.xy, shade(id.xy, !miss && !is_emissive(m), diffuse_albedo(m), textureLoad(lit_in, id.xy)));
+    textureStore(lit, id.xy, shade(id.xy, !miss && !is_emissive(m), diffuse_albedo(m), textureLoad(lit_in, id.xy), bitcast<f32>(ids.z)));
 }
 
 // The first light pass of a graph without an albedo pass: it seeds `lit`
@@ -62,15 +62,16 @@ fn first(@builtin(global_invocation_id) id: vec3u) {
     let miss = ids.y == NO_OBJECT;
     let m = load_material(select(ids.x, 0u, miss));
     let lit_surface = !miss && !is_emissive(m);
-    textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss), 1.0)));
+    textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss), 1.0), bitcast<f32>(ids.z)));
 }
 
 // `before` plus, on a lit surface (a hit on a non-emitter, known from the
 // material the caller loaded), the light falling on it times base / pi.
-fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f) -> vec4f {
+// `error`: the hit's error along n (gbuf_id.z).
+fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f, error: f32) -> vec4f {
     let p = textureLoad(gbuf_pos, id.xy).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
-    let o = offset_ray(p, n);
+    let o = offset_by(p, n, error);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
     if single_point() {

@@ -62,7 +62,7 @@ fn shade_hit(hit: Hit, dir: vec3f, rng: ptr<function, Rng>) -> vec3f {
     let ng = f.ng;
     let n = f.n;
     let base = m.albedo * (1.0 - m.specular);
-    let o = offset_ray(hit.position, ng);
+    let o = offset_ray(hit.position, ng, hit.error);
     var e = vec3f(0.0);
     for (var i = 0u; i < light_count(); i++) {
         e += light_irradiance(i, load_light(i), hit.position, n, o, 1u, 0u, 0.0, rng);

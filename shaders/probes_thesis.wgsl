@@ -60,7 +60,7 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
         let ng = facing(hit, dir).ng;
         atten *= m.specular * m.albedo;
         dir = reflect(dir, ng);
-        origin = offset_ray(hit.position, ng);
+        origin = offset_ray(hit.position, ng, hit.error);
     }
     return vec3f(0.0);
 }

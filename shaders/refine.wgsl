@@ -15,7 +15,7 @@ struct Params {
 @group(0) @binding(1) var mask: texture_storage_2d<r32float, read>;
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(4) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(4) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(5) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(6) var lit: texture_storage_2d<rgba32float, write>;
 
@@ -49,7 +49,7 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     // A lit surface (main listed no other): its albedo is the material's,
     // what the albedo pass would have stored.
     let base = diffuse_albedo(load_material(ids.x));
-    let o = offset_ray(p, n);
+    let o = offset_by(p, n, bitcast<f32>(ids.z));
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);
     for (var i = 0u; i < light_count(); i++) {

@@ -12,7 +12,7 @@ struct Params {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var lit: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var edges: texture_storage_2d<r32float, write>;
 
 fn luminance(c: vec3f) -> f32 {

@@ -7,8 +7,8 @@
 //! What made them fail: positions were parsed as f32 (at 1e7 a float's
 //! resolution is 1), and `offset_ray`'s near-origin offset was absolute.
 //! Now the world is f64 and the GPU sees it rebased on a grid point near
-//! the camera (src/session/scene_gpu.rs), and the offsets are relative to
-//! the scene (`frame.offset_scale`, src/bvh/offset.rs).
+//! the camera (src/session/scene_gpu.rs), and every ray leaves its hit by
+//! that hit's own error bound (src/bvh/offset.rs).
 //! `cargo run --release --example place_scale` prints the table in
 //! docs/acceleration.md ("Any place, any scale").
 

@@ -88,7 +88,7 @@ fn with_reservoirs(@builtin(global_invocation_id) id: vec3u) {
     if path_primary_pos.w >= 0.0 {
         // The normal as restir.wgsl reads it back (packed).
         let ng = oct_to_normal(unpack2x16snorm(pack2x16snorm(normal_to_oct(path_primary_ng))));
-        let s = make_surface(path_primary_pos.xyz, path_primary_normal.xyz, ng, path_primary_direct);
+        let s = make_surface(path_primary_pos.xyz, path_primary_normal.xyz, ng, path_primary_direct, bitcast<f32>(path_primary_ids.z));
         light += shade_reservoir(s, decode_reservoir(textureLoad(reservoir_prev, vec2i(r.pixel))));
     }
     store_gradient(id.xy, r, light);

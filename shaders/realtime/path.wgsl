@@ -5,10 +5,10 @@
 
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(5) var gbuf_id: texture_storage_2d<rg32uint, write>;
+@group(0) @binding(5) var gbuf_id: texture_storage_2d<rgba32uint, write>;
 
-fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec2u) {
+fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec3u) {
     textureStore(gbuf_pos, pixel, pos);
     textureStore(gbuf_normal, pixel, normal);
-    textureStore(gbuf_id, pixel, vec4u(ids, 0u, 0u));
+    textureStore(gbuf_id, pixel, vec4u(ids, 0u));
 }

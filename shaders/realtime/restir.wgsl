@@ -35,6 +35,9 @@ struct Params {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
+// z: the hit's error bound (f32 bits), what a surface's shadow rays
+// are offset by.
+@group(0) @binding(12) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 // The path pass's record for this pass: the factor the hit's light
 // arrives with (f32 bits) and the packed geometric normal.
 @group(0) @binding(3) var di_surface: texture_storage_2d<rgba32uint, read>;
@@ -59,7 +62,7 @@ fn surface_at(q: vec2i) -> Surface {
     let g = textureLoad(gbuf_pos, q);
     let t = textureLoad(di_surface, q);
     let ng = oct_to_normal(unpack2x16snorm(t.w));
-    var s = make_surface(g.xyz, textureLoad(gbuf_normal, q).xyz, ng, bitcast<vec3f>(t.xyz));
+    var s = make_surface(g.xyz, textureLoad(gbuf_normal, q).xyz, ng, bitcast<vec3f>(t.xyz), bitcast<f32>(textureLoad(gbuf_id, q).z));
     s.valid = s.valid && g.w >= 0.0;
     return s;
 }
@@ -72,7 +75,12 @@ fn previous_surface(q: vec2i, g: vec4f) -> Surface {
     var rng = rng_at(rng_frame_key(frame.frame_index - 1u, PATH_RENDER_SALT, frame.seed), vec2u(q));
     let dir = camera_dir(frame.prev_camera, vec2u(q), rand2(&rng));
     let n = oct_to_normal(g.xy);
-    return make_surface(frame.prev_camera.origin + g.z * dir, n, n, vec3f(1.0));
+    // The point o + t d: its error from its operands (pbrt's bound for a
+    // multiply and an add), and the bound of a triangle's interpolation
+    // at it, as the hit it stands for had at least that.
+    let p = frame.prev_camera.origin + g.z * dir;
+    let error = f32_gamma(9.0) * dot(abs(frame.prev_camera.origin) + abs(g.z * dir), vec3f(1.0));
+    return make_surface(p, n, n, vec3f(1.0), error);
 }
 
 @compute @workgroup_size(128, 1)

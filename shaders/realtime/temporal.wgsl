@@ -45,7 +45,7 @@ struct Params {
 @group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(4) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(4) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(5) var illum_prev: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(6) var color_prev: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(7) var albedo_prev: texture_storage_2d<rgba32float, read>;
@@ -170,7 +170,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         n = min(n, f32(params.moving_history));
     }
     if scene_changed() && params.gradient_gain > 0.0 && n > 0.0 {
-        let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
+        let then = project(frame.prev_camera, select(g.xyz, miss_point(frame.prev_camera, g.xyz), miss));
         let lambda = min(params.gradient_gain * changed_share(gradient, then.xy), 1.0);
         n = min(n, (1.0 - lambda) / max(lambda, 1e-6));
     }

@@ -34,9 +34,9 @@ struct Frame {
     // compensated (Kahan) arithmetic from being folded away (Mesa's NIR,
     // for one, treats float ops as reassociable; see shared/mean.wgsl).
     exact_one: f32,
-    // The scene's ray-offset scale (a power of two near half its extent):
-    // offset_ray's near-origin threshold and fixed offset grow with it, so
-    // a scene scaled by s offsets its rays by s too (src/bvh/offset.rs).
+    // The grid the origin is rebased on (a power of two near half the
+    // scene's extent); ray offsets take each hit's own error bound instead
+    // (offset_ray, src/bvh/offset.rs).
     offset_scale: f32,
     // Frames since history was last dropped (a new session, a restart, a
     // reset): 0 = no history texture holds anything yet. Camera motion
@@ -64,6 +64,17 @@ fn camera_dir(cam: Camera, pixel: vec2u, jitter: vec2f) -> vec3f {
 // Where world point `p` lands on `cam`'s image, in pixels (continuous:
 // pixel (i, j) spans [i, i+1) x [j, j+1)); the inverse of camera_dir.
 // z <= 0 (behind the camera) returns a negative depth in .z.
+// The point a miss's direction `dir` stands for, seen from camera `cam`:
+// far enough along it that adding it to the camera's position keeps it
+// (a camera 4.4e7 from the origin rounds a unit step away: its misses then
+// projected behind it and lost their history where a camera near the
+// origin kept it), and 1 for a camera within 1024 of the origin.
+fn miss_point(cam: Camera, dir: vec3f) -> vec3f {
+    let a = abs(cam.origin);
+    let far = max(1.0, max(a.x, max(a.y, a.z)) * (1.0 / 1024.0));
+    return cam.origin + far * dir;
+}
+
 fn project(cam: Camera, p: vec3f) -> vec3f {
     let d = p - cam.origin;
     let z = dot(d, cam.forward);

@@ -22,6 +22,10 @@ struct Hit {
     // Geometric and shading normals (unit length, not yet faced to the ray).
     geo_normal: vec3f,
     normal: vec3f,
+    // A conservative bound on |position - the true surface point|, per
+    // component, from the operands of the arithmetic that computed it
+    // (hit_error_*): offset_ray moves a new ray's origin past it.
+    error: vec3f,
     material: u32,
     object: u32,
     // Index of the sphere light hit, or -1.
@@ -33,7 +37,7 @@ fn hit_found(h: Hit) -> bool {
 }
 
 fn no_hit(tmax: f32) -> Hit {
-    return Hit(tmax, vec3f(0.0), vec3f(0.0), vec3f(0.0), 0u, NO_HIT, -1);
+    return Hit(tmax, vec3f(0.0), vec3f(0.0), vec3f(0.0), vec3f(0.0), 0u, NO_HIT, -1);
 }
 
 // The traversal stacks. Module-scope private memory is zero-initialised
@@ -440,7 +444,7 @@ fn closest_hit(c: Closest, ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     if SCENE_SPHERES && (!SCENE_MESHES || (c.prim & SPHERE_BIT) != 0u) {
         let s = load_sphere(c.prim & ~SPHERE_BIT);
         let n = normalize(ro + c.t * rd - s.geo.xyz);
-        return Hit(c.t, s.geo.xyz + s.geo.w * n, n, n, s.ids.x, s.ids.z, bitcast<i32>(s.ids.y));
+        return Hit(c.t, s.geo.xyz + s.geo.w * n, n, n, hit_error_sphere(s.geo.xyz, s.geo.w), s.ids.x, s.ids.z, bitcast<i32>(s.ids.y));
     }
     let tri = load_triangle(c.prim);
     let p0 = tri.p0.xyz;
@@ -450,8 +454,73 @@ fn closest_hit(c: Closest, ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     let tn = load_normals(c.prim);
     var sn = (1.0 - c.uv.x - c.uv.y) * tn.n0 + c.uv.x * tn.n1 + c.uv.y * tn.n2;
     sn = select(gn, normalize(sn), dot(sn, sn) > 1e-12);
-    let p = (1.0 - c.uv.x - c.uv.y) * p0 + c.uv.x * p1 + c.uv.y * p2;
-    return Hit(c.t, p, gn, sn, bitcast<u32>(tri.p0.w), bitcast<u32>(tri.p1.w), -1);
+    // Two ways to the point, each with its error bound: interpolated from
+    // the vertices (its error grows with their size: a triangle a million
+    // units across is off by 0.1 anywhere on it), or along the ray (its
+    // error grows with the ray's origin and length). The hit takes the
+    // ray's only where it is far tighter (RAY_POINT_GAIN): an interpolated
+    // point lies inside the triangle's edges and planes exactly as its
+    // vertices do (a card standing on a floor never dips below it), which
+    // the shadow-ray occluder lists rely on (src/scene/origins.rs).
+    let b0 = 1.0 - c.uv.x - c.uv.y;
+    let p_bary = b0 * p0 + c.uv.x * p1 + c.uv.y * p2;
+    let e_bary = hit_error_triangle(vec3f(b0, c.uv), p0, p1, p2);
+    let p_ray = ro + c.t * rd;
+    let e_ray = f32_gamma(3.0) * (abs(ro) + abs(c.t * rd)) + abs(rd) * triangle_t_error(make_ray(ro, rd), p0, p1, p2);
+    let along_ray = RAY_POINT_GAIN * (e_ray.x + e_ray.y + e_ray.z) < e_bary.x + e_bary.y + e_bary.z;
+    let p = select(p_bary, p_ray, along_ray);
+    let error = select(e_bary, e_ray, along_ray);
+    return Hit(c.t, p, gn, sn, error, bitcast<u32>(tri.p0.w), bitcast<u32>(tri.p1.w), -1);
+}
+
+// How much tighter the ray's point must be than the interpolated one to
+// be taken (a triangle far larger than the ray's length).
+const RAY_POINT_GAIN: f32 = 64.0;
+
+// A bound on the error of the distance t hit_triangle computes for ray r
+// and the triangle (pbrt-v4's, Pharr et al. 6.8.4: from the sheared
+// vertices' sizes through the edge functions and their sum); 3e38 where it
+// cannot say (a ray along the triangle's plane).
+fn triangle_t_error(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> f32 {
+    let a = shear(r, p0);
+    let b = shear(r, p1);
+    let c = shear(r, p2);
+    let u = diff_of_products(c.x, b.y, c.y, b.x);
+    let v = diff_of_products(a.x, c.y, a.y, c.x);
+    let w = diff_of_products(b.x, a.y, b.y, a.x);
+    let det = u + v + w;
+    let max_z = max(abs(a.z), max(abs(b.z), abs(c.z)));
+    let max_x = max(abs(a.x), max(abs(b.x), abs(c.x)));
+    let max_y = max(abs(a.y), max(abs(b.y), abs(c.y)));
+    let max_e = max(abs(u), max(abs(v), abs(w)));
+    let delta_z = f32_gamma(3.0) * max_z;
+    let delta_x = f32_gamma(5.0) * (max_x + max_z);
+    let delta_y = f32_gamma(5.0) * (max_y + max_z);
+    let delta_e = 2.0 * (f32_gamma(2.0) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    let delta_t = 3.0 * (f32_gamma(3.0) * max_e * max_z + delta_e * max_z + delta_z * max_e) / abs(det);
+    return select(3.0e38, delta_t, delta_t == delta_t && abs(det) > 0.0 && delta_t < 3.0e38);
+}
+
+// pbrt's gamma(n): n rounded f32 operations in a row are off by at most
+// this share of the exact result (n u / (1 - n u), u = 2^-24).
+fn f32_gamma(n: f32) -> f32 {
+    return n * 5.96046448e-8 / (1.0 - n * 5.96046448e-8);
+}
+
+// The error of a triangle hit interpolated from barycentrics b (pbrt-v4,
+// Pharr et al. 6.8.4): the interpolation's seven rounded operations
+// (b0 = 1 - b1 - b2 included) relative to the sum of the terms' sizes. It
+// is large where the vertices are far apart or far from the origin, and 0
+// along an axis all three vertices share exactly (a plane z = 0).
+fn hit_error_triangle(b: vec3f, p0: vec3f, p1: vec3f, p2: vec3f) -> vec3f {
+    return f32_gamma(7.0) * (abs(b.x * p0) + abs(b.y * p1) + abs(b.z * p2));
+}
+
+// The error of a sphere hit c + r n, n the normalised direction from the
+// centre (pbrt-v4 6.8.5 bounds the reprojected point by gamma(5) of its
+// size; the centre's addition adds one more rounding of both terms).
+fn hit_error_sphere(c: vec3f, r: f32) -> vec3f {
+    return f32_gamma(6.0) * (abs(c) + vec3f(r));
 }
 
 // A hit's normals faced against the ray `rd` (surfaces are two-sided): the
@@ -477,20 +546,43 @@ fn trace_any(ro: vec3f, rd: vec3f, tmax: f32) -> bool {
     return traverse(make_ray(ro, rd), tmax, true).prim != NO_HIT;
 }
 
-// Moves a surface point off the surface along the geometric normal `n`
-// (pointing to the side the new ray leaves from), by a few ULPs scaled to
-// the magnitude of p (Wachter & Binder, Ray Tracing Gems ch. 6); near the
-// origin by a fixed amount relative to the scene's size (offset_scale), so
-// the offsets of a scaled scene scale with it.
-fn offset_ray(p: vec3f, n: vec3f) -> vec3f {
-    let origin = frame.offset_scale * (1.0 / 32.0);
-    let float_scale = frame.offset_scale * (1.0 / 65536.0);
-    let int_scale = 256.0;
-    let of_i = vec3i(int_scale * n);
-    let p_i = vec3f(
-        bitcast<f32>(bitcast<i32>(p.x) + select(of_i.x, -of_i.x, p.x < 0.0)),
-        bitcast<f32>(bitcast<i32>(p.y) + select(of_i.y, -of_i.y, p.y < 0.0)),
-        bitcast<f32>(bitcast<i32>(p.z) + select(of_i.z, -of_i.z, p.z < 0.0)),
-    );
-    return select(p_i, p + float_scale * n, abs(p) < vec3f(origin));
+// Moves surface point p, whose error is bounded by `error` (Hit.error),
+// off the surface along the unit normal `n` (pointing to the side the new
+// ray leaves from): by the error's extent along the normal (pbrt-v4,
+// Pharr et al. 6.8.6), so the origin is on that side of the true surface
+// whatever the rounding, and by at least OFFSET_ULPS ULPs of the point's
+// largest coordinate: the new ray's own intersection tests round at that
+// size (shearing a neighbour's vertices loses a smaller offset, and a
+// coplanar neighbour would then shadow it; pbrt rejects such hits with a
+// bound on t in every test instead, which a CPU driver pays for on every
+// triangle). Both scale with the operands, never with the scene's size.
+fn offset_ray(p: vec3f, n: vec3f, error: vec3f) -> vec3f {
+    return offset_by(p, n, dot(abs(n), error));
+}
+
+// `offset_ray` for a point whose error along `n` is at most `d` (a
+// G-buffer's: gbuffer_offset_error).
+fn offset_by(p: vec3f, n: vec3f, d: f32) -> vec3f {
+    let largest = max(abs(p.x), max(abs(p.y), abs(p.z)));
+    // The power of two at or below it, times 2^-23: its ULP.
+    let ulp = bitcast<f32>(bitcast<u32>(largest) & 0x7f800000u) * 1.1920929e-7;
+    return p + max(d, max(OFFSET_ULPS * ulp, TINY_OFFSET)) * n;
+}
+
+// ULPs of the largest coordinate a ray origin moves off its surface at
+// least (Wächter and Binder, Ray Tracing Gems ch. 6, move each coordinate
+// by 256 of its own).
+const OFFSET_ULPS: f32 = 256.0;
+
+// The least offset: at a point within 1e-27 of the origin, far below any
+// size a scene holds (the README's range is 1e15 across).
+const TINY_OFFSET: f32 = 1e-30;
+
+// What a G-buffer keeps of a hit's error for the passes that offset rays
+// from it (offset_by): its extent along any unit direction (the sum of
+// its components bounds dot(abs(u), error) for every unit u), so a pass
+// may offset along the shading normal the G-buffer stores or along the
+// geometric one.
+fn gbuffer_offset_error(hit: Hit) -> f32 {
+    return hit.error.x + hit.error.y + hit.error.z;
 }

@@ -36,12 +36,19 @@ fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
         s.valid = true;
         return s;
     }
-    if d <= l.radius * 1.0001 {
-        return s; // inside the light: it lights nothing from here
+    if d <= l.radius * 1.0001 && d >= l.radius * 0.9999 {
+        return s; // on the light's own surface
     }
-    let one_minus_cos = sphere_one_minus_cos(d, l.radius);
+    // Inside the light (a sphere light around the camera and the scene):
+    // every direction meets it, so a uniform direction (a cone of every
+    // direction, pdf 1 / (4 pi)), as far as the sphere.
+    let inside = d < l.radius;
+    let one_minus_cos = select(sphere_one_minus_cos(d, l.radius), 2.0, inside);
     s.dir = sample_cone(axis, one_minus_cos, u);
     var t = ray_sphere(p, s.dir, l.position, l.radius, 0.0, 3.0e38);
+    if t <= 0.0 && inside {
+        return s;
+    }
     if t <= 0.0 {
         t = d * sphere_cos_max(d, l.radius); // grazing the silhouette: the tangent distance
     }
@@ -53,13 +60,13 @@ fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
 }
 
 // The solid-angle pdf `sample_light` would give direction-independent
-// sphere light `l` from point p (0 if p is inside it).
+// sphere light `l` from point p (1 / (4 pi) inside it, 0 on its surface).
 fn light_pdf(l: Light, p: vec3f) -> f32 {
     let d = length(l.position - p);
-    if l.kind != LIGHT_SPHERE || d <= l.radius * 1.0001 {
+    if l.kind != LIGHT_SPHERE || (d <= l.radius * 1.0001 && d >= l.radius * 0.9999) {
         return 0.0;
     }
-    return cone_pdf(sphere_one_minus_cos(d, l.radius));
+    return cone_pdf(select(sphere_one_minus_cos(d, l.radius), 2.0, d < l.radius));
 }
 
 // Whether sample `s` of light `i` is visible from the offset origin `o`.

@@ -15,7 +15,8 @@
 override FIRST_HIT: bool = true;
 var<private> path_primary_pos: vec4f;
 var<private> path_primary_normal: vec4f;
-var<private> path_primary_ids: vec2u;
+// (material, object, the hit's error along the stored normal as f32 bits)
+var<private> path_primary_ids: vec3u;
 // With THROUGH_MIRRORS, the first hit recorded is the first one past any
 // perfect mirrors (specular share 1, roughness 0: a path goes on from them
 // in one direction only), with the specular share 1 in the normal's w (what
@@ -115,7 +116,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
         let view_dependent = select(m.specular, 1.0, depth > 0u);
         path_primary_normal = select(vec4f(facing, view_dependent), vec4f(0.0), !hit_found(hit));
-        path_primary_ids = select(vec2u(hit.material, hit.object), vec2u(NO_HIT), !hit_found(hit));
+        path_primary_ids = select(vec3u(hit.material, hit.object, bitcast<u32>(gbuffer_offset_error(hit))), vec3u(NO_HIT, NO_HIT, 0u), !hit_found(hit));
         path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0;
         path_primary_direct = vec3f(0.0);
     }
@@ -151,7 +152,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     let f = facing(hit, rd);
     let ng = f.ng;
     let n = f.n;
-    let o = offset_ray(p, ng);
+    let o = offset_ray(p, ng, hit.error);
     out.o = o;
     out.shadow_dir = n;
     if direct_apart {

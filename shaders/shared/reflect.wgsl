@@ -13,7 +13,7 @@ struct Params {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(3) var gbuf_id: texture_storage_2d<rg32uint, read>;
+@group(0) @binding(3) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var reflect_reuse: texture_storage_2d<r32float, write>;
@@ -34,8 +34,8 @@ fn screen_pixel(x: vec3f) -> vec2i {
 
 // Direct light at a hit (diffuse share), as the lights pass computes it,
 // plus `extra` irradiance (an importer's indirect light).
-fn shade(p: vec3f, n: vec3f, m: Material, extra: vec3f, rng: ptr<function, Rng>) -> vec3f {
-    let o = offset_ray(p, n);
+fn shade(p: vec3f, n: vec3f, error: f32, m: Material, extra: vec3f, rng: ptr<function, Rng>) -> vec3f {
+    let o = offset_by(p, n, error);
     var e = vec3f(0.0);
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
@@ -55,6 +55,8 @@ struct Reflection {
     // Where the ray leaves from, the surface's facing normal, its direction.
     p: vec3f,
     n: vec3f,
+    // p's error along n (offset_by).
+    error: f32,
     dir: vec3f,
     atten: vec3f,
     color: vec3f,
@@ -65,6 +67,7 @@ struct Reflection {
     // The hit to shade: position, facing normal, material.
     hit_p: vec3f,
     hit_n: vec3f,
+    hit_error: f32,
     hit_m: u32,
 }
 
@@ -91,6 +94,7 @@ fn reflect_begin(id: vec3u) -> Reflection {
     let m0 = load_material(ids.x);
     r.p = textureLoad(gbuf_pos, id.xy).xyz;
     r.n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
+    r.error = bitcast<f32>(ids.z);
     r.dir = reflect(normalize(r.p - frame.camera.origin), r.n);
     r.atten = m0.specular * m0.albedo;
     r.reused = 0.0;
@@ -103,7 +107,7 @@ fn reflect_begin(id: vec3u) -> Reflection {
 // reused colour) gives, and returns true at a hit that needs shading.
 fn reflect_next(r: ptr<function, Reflection>) -> bool {
     while !(*r).done && (*r).depth < params.max_depth {
-        let hit = trace_closest(offset_ray((*r).p, (*r).n), (*r).dir, 3.0e38);
+        let hit = trace_closest(offset_by((*r).p, (*r).n, (*r).error), (*r).dir, 3.0e38);
         if !hit_found(hit) {
             (*r).color += (*r).atten * frame.background;
             (*r).done = true;
@@ -121,6 +125,7 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
         }
         (*r).hit_p = hit.position;
         (*r).hit_n = hn;
+        (*r).hit_error = gbuffer_offset_error(hit);
         (*r).hit_m = hit.material;
         if params.reuse == 1u {
             let q = screen_pixel(hit.position);
@@ -159,6 +164,7 @@ fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
     (*r).atten *= m.specular * m.albedo;
     (*r).p = (*r).hit_p;
     (*r).n = (*r).hit_n;
+    (*r).error = (*r).hit_error;
     (*r).dir = reflect((*r).dir, (*r).hit_n);
     (*r).depth += 1u;
 }
@@ -166,7 +172,7 @@ fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
 // Shades the hit `reflect_next` stopped at, with `extra` irradiance.
 fn reflect_shade(r: ptr<function, Reflection>, extra: vec3f) {
     var rng = (*r).rng;
-    let diffuse = shade((*r).hit_p, (*r).hit_n, load_material((*r).hit_m), extra, &rng);
+    let diffuse = shade((*r).hit_p, (*r).hit_n, (*r).hit_error, load_material((*r).hit_m), extra, &rng);
     (*r).rng = rng;
     reflect_advance(r, diffuse);
 }

@@ -68,8 +68,8 @@ struct Footprint {
 fn footprint(pixel: vec2u, g: vec4f, view_dependent: bool) -> Footprint {
     var fp = Footprint(false, false, vec2i(0), vec2f(0.0), 1u, 0u);
     let miss = g.w < 0.0;
-    let now = project(frame.camera, select(g.xyz, frame.camera.origin + g.xyz, miss));
-    let then = project(frame.prev_camera, select(g.xyz, frame.prev_camera.origin + g.xyz, miss));
+    let now = project(frame.camera, select(g.xyz, miss_point(frame.camera, g.xyz), miss));
+    let then = project(frame.prev_camera, select(g.xyz, miss_point(frame.prev_camera, g.xyz), miss));
     if then.z <= 0.0 {
         return fp;
     }

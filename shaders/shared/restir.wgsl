@@ -68,9 +68,10 @@ struct Surface {
     valid: bool,
 }
 
-fn make_surface(p: vec3f, n: vec3f, ng: vec3f, weight: vec3f) -> Surface {
+// `error`: p's error bound (gbuffer_offset_error).
+fn make_surface(p: vec3f, n: vec3f, ng: vec3f, weight: vec3f, error: f32) -> Surface {
     let valid = max3(weight) > 0.0 && light_count() > 0u;
-    return Surface(p, offset_ray(p, ng), n, ng, weight, valid);
+    return Surface(p, offset_by(p, ng, error), n, ng, weight, valid);
 }
 
 // The sample's point on its light seen from `s`: the light it brings

@@ -106,6 +106,34 @@ pub fn hit_triangle(r: &Ray, p0: Vec3, p1: Vec3, p2: Vec3, tmax: f32) -> Option<
     Some((t, v * inv, w * inv))
 }
 
+/// A bound on the error of the distance `hit_triangle` computes for ray r
+/// and the triangle (pbrt-v4's, Pharr et al. 6.8.4: from the sheared
+/// vertices' sizes through the edge functions and their sum), as
+/// `triangle_t_error` in intersect.wgsl; `f32::MAX` where it cannot say.
+pub fn triangle_t_error(r: &Ray, p0: Vec3, p1: Vec3, p2: Vec3) -> f32 {
+    use super::offset::gamma;
+    let [kx, ky, kz] = r.k;
+    let shear = |p: Vec3| {
+        let a = p - r.o;
+        Vec3::new(a[kx] - r.s.x * a[kz], a[ky] - r.s.y * a[kz], r.s.z * a[kz])
+    };
+    let (a, b, c) = (shear(p0), shear(p1), shear(p2));
+    let u = diff_of_products(c.x, b.y, c.y, b.x);
+    let v = diff_of_products(a.x, c.y, a.y, c.x);
+    let w = diff_of_products(b.x, a.y, b.y, a.x);
+    let det = u + v + w;
+    let max_z = a.z.abs().max(b.z.abs()).max(c.z.abs());
+    let max_x = a.x.abs().max(b.x.abs()).max(c.x.abs());
+    let max_y = a.y.abs().max(b.y.abs()).max(c.y.abs());
+    let max_e = u.abs().max(v.abs()).max(w.abs());
+    let delta_z = gamma(3.0) * max_z;
+    let delta_x = gamma(5.0) * (max_x + max_z);
+    let delta_y = gamma(5.0) * (max_y + max_z);
+    let delta_e = 2.0 * (gamma(2.0) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    let delta_t = 3.0 * (gamma(3.0) * max_e * max_z + delta_e * max_z + delta_z * max_e) / det.abs();
+    if delta_t.is_finite() && det != 0.0 && delta_t < f32::MAX { delta_t } else { f32::MAX }
+}
+
 /// a*b - c*d with one rounding (Kahan): exact sign even when the two
 /// products nearly cancel.
 pub fn diff_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {

@@ -212,8 +212,8 @@ async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<
     }
     if backends == wgpu::Backends::GL {
         return Err(UserError::new(
-            "WGPU_BACKEND=gl: glint does not run on wgpu's GL backend (it offers no write-only rg32uint storage textures, which the G-buffers are, \
-             and its shader translation refuses parts of the path tracer); use vulkan, metal or dx12 (on a machine without a GPU: WGPU_BACKEND=vulkan \
+            "WGPU_BACKEND=gl: glint does not run on wgpu's GL backend (its shader translation refuses parts of the path tracer, and its storage \
+             textures lack formats glint's passes write); use vulkan, metal or dx12 (on a machine without a GPU: WGPU_BACKEND=vulkan \
              with Mesa's lavapipe)",
         ));
     }
@@ -221,9 +221,9 @@ async fn pick_adapter(instance: &wgpu::Instance, surface: Option<&wgpu::Surface<
     if let Some(s) = surface {
         adapters.retain(|a| a.is_surface_supported(s));
     }
-    // wgpu's GL backend cannot run glint's passes: it offers no write-only
-    // storage textures of the formats the G-buffers use (rg32uint), and its
-    // shader translation refuses some of what the path tracer writes. Its
+    // wgpu's GL backend cannot run glint's passes: its shader translation
+    // refuses some of what the path tracer writes, and its storage
+    // textures lack formats the passes write (rg32uint, tried). Its
     // adapters are left out; asked for alone, it is refused in words.
     adapters.retain(|a| a.get_info().backend != wgpu::Backend::Gl);
     let list = |adapters: &[wgpu::Adapter]| {

@@ -112,7 +112,8 @@ pub struct FrameGpu {
     /// Always 1.0; shaders cannot know it at compile time, so a product
     /// with it keeps compensated arithmetic from being folded away.
     pub exact_one: f32,
-    /// The scene's ray-offset scale (`bvh::offset::offset_scale`).
+    /// The scene's origin-rebasing grid (`bvh::offset::offset_scale`; ray
+    /// offsets no longer use it).
     pub offset_scale: f32,
     /// Frames since history was last dropped (a new session, a restart or
     /// `reset_accumulation`): 0 = no history texture holds anything yet.
