@@ -182,3 +182,38 @@ fn huge_sphere_walls_leave_no_black_pixel() {
     let black = image.data.iter().filter(|p| p[0] == 0.0 && p[1] == 0.0 && p[2] == 0.0).count();
     assert_eq!(black, 0, "{black} black pixels in smallpt's room");
 }
+
+/// A scene of one mesh and nothing else (an OBJ beside a point light: the
+/// TLAS is that mesh alone, ONE_MESH) renders in every shipped graph. The
+/// path tracer's and realtime.ron's shaders crashed lavapipe (a segfault
+/// in its queue thread) on such a scene; each graph runs in a process of
+/// its own, so a crash fails this test instead of ending the test run.
+#[test]
+fn a_scene_of_one_mesh_renders_in_every_graph() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("one-mesh");
+    let scene = dir.join("chair.ron");
+    let mesh = repo().join("scenes/meshes/chair.obj");
+    std::fs::write(
+        &scene,
+        format!("Scene(camera: Camera(position: (0.0, 1.0, 4.0), target: (0.0, 0.5, 0.0), vfov_deg: 40.0),\n  objects: [Mesh(path: {mesh:?})],\n  lights: [PointLight(position: (1.0, 3.0, 3.0), intensity: (10.0, 10.0, 10.0))])\n"),
+    )
+    .unwrap();
+    let mut failed = Vec::new();
+    for graph in ["direct.ron", "hybrid-point.ron", "hybrid.ron", "hybrid-gi.ron", "irradiance.ron", "pathtrace.ron", "realtime.ron", "realtime-restir.ron"] {
+        let out = dir.join(graph.replace(".ron", ".png"));
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+            .args(["render", &scene.display().to_string(), "--graph", &repo().join("passes").join(graph).display().to_string(), "--size", "32x32", "--frames", "2", "--out"])
+            .arg(&out)
+            .env("WGPU_BACKEND", "vulkan")
+            .output()
+            .expect("run glint");
+        if !run.status.success() {
+            failed.push(format!("{graph}: {} {}", run.status, String::from_utf8_lossy(&run.stderr)));
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+    std::fs::remove_dir_all(&dir).ok();
+}

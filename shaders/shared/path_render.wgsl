@@ -53,7 +53,16 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     var s = 0u;
     var sum = vec3f(0.0);
     var st = new_path(frame.camera.origin, camera_dir(frame.camera, pixel, rand2(&rng)));
-    var hit = trace_closest_through(pixel, st.rd, 3.0e38);
+    // A scene of one mesh and nothing else (ONE_MESH) takes the plain
+    // traversal: lavapipe (Mesa 22.3.6) crashed in its queue thread running
+    // the tile-entry traversal of a one-mesh scene beside the entry's copy
+    // of scene_flat (tests/degenerate.rs, an OBJ opened on its own).
+    var hit: Hit;
+    if ONE_MESH {
+        hit = trace_closest(frame.camera.origin, st.rd, 3.0e38);
+    } else {
+        hit = trace_closest_through(pixel, st.rd, 3.0e38);
+    }
     path_primary_pos = vec4f(0.0);
     path_primary_normal = vec4f(0.0);
     path_primary_ids = vec3u(NO_HIT, NO_HIT, 0u);
