@@ -36,13 +36,15 @@ fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
         s.valid = true;
         return s;
     }
-    if d <= l.radius * 1.0001 && d >= l.radius * 0.9999 {
-        return s; // on the light's own surface
+    // On the light's own surface (or anywhere inside it, where no sphere
+    // light can hold a shading point: SCENE_INSIDE_LIGHTS).
+    if d <= l.radius * 1.0001 && (!SCENE_INSIDE_LIGHTS || d >= l.radius * 0.9999) {
+        return s;
     }
     // Inside the light (a sphere light around the camera and the scene):
     // every direction meets it, so a uniform direction (a cone of every
     // direction, pdf 1 / (4 pi)), as far as the sphere.
-    let inside = d < l.radius;
+    let inside = SCENE_INSIDE_LIGHTS && d < l.radius;
     let one_minus_cos = select(sphere_one_minus_cos(d, l.radius), 2.0, inside);
     s.dir = sample_cone(axis, one_minus_cos, u);
     var t = ray_sphere(p, s.dir, l.position, l.radius, 0.0, 3.0e38);
@@ -63,10 +65,10 @@ fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
 // sphere light `l` from point p (1 / (4 pi) inside it, 0 on its surface).
 fn light_pdf(l: Light, p: vec3f) -> f32 {
     let d = length(l.position - p);
-    if l.kind != LIGHT_SPHERE || (d <= l.radius * 1.0001 && d >= l.radius * 0.9999) {
+    if l.kind != LIGHT_SPHERE || (d <= l.radius * 1.0001 && (!SCENE_INSIDE_LIGHTS || d >= l.radius * 0.9999)) {
         return 0.0;
     }
-    return cone_pdf(select(sphere_one_minus_cos(d, l.radius), 2.0, d < l.radius));
+    return cone_pdf(select(sphere_one_minus_cos(d, l.radius), 2.0, SCENE_INSIDE_LIGHTS && d < l.radius));
 }
 
 // Whether sample `s` of light `i` is visible from the offset origin `o`.

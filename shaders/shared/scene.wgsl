@@ -130,6 +130,8 @@ override SCENE_MESHES: bool = true;
 override SCENE_POINT_LIGHTS: bool = true;
 override SCENE_AREA_LIGHTS: bool = true;
 override SCENE_SPECULAR: bool = true;
+// A sphere light may hold a shading point inside it (src/scene/specialise.rs).
+override SCENE_INSIDE_LIGHTS: bool = true;
 override SCENE_ONE_LIGHT: bool = false;
 
 // How many lights the light loops visit: a constant where the scene has

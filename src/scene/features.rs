@@ -67,6 +67,11 @@ pub struct SceneFeatures {
     /// that many primitives; false in `all()`. `Scene::compile_features`
     /// sets it from the scene as it is when a graph is compiled for it.
     pub flat: bool,
+    /// A sphere light may hold a surface or the camera inside it (one
+    /// reaches an object's bounds or the camera, or something moves), so
+    /// light sampling needs its from-inside case. `Scene::compile_features`
+    /// sets it; true in `all()`.
+    pub enclosing_lights: bool,
 }
 
 impl SceneFeatures {
@@ -82,6 +87,7 @@ impl SceneFeatures {
             motion: true,
             lights: u32::MAX,
             flat: false,
+            enclosing_lights: true,
         }
     }
 

@@ -193,7 +193,54 @@ impl Scene {
     /// What a graph is compiled for: the features found at load, with
     /// `flat` as the scene is now (entities added since count).
     pub fn compile_features(&self) -> SceneFeatures {
-        SceneFeatures { flat: self.is_flat(), ..self.features }
+        SceneFeatures { flat: self.is_flat(), enclosing_lights: self.may_enclose(), ..self.features }
+    }
+
+    /// Whether a sphere light may hold a shading point inside it: its
+    /// sphere reaches the camera, a sphere object or a mesh's bounds, or
+    /// anything moves (conservative: a moving light or object may get
+    /// there). Boxes, not triangles: cheap, and false for every shipped
+    /// static scene.
+    pub fn may_enclose(&self) -> bool {
+        let lights: Vec<(DVec3, f64)> = self
+            .world
+            .query::<(&Transform, &Light)>()
+            .iter()
+            .filter_map(|(t, l)| match *l {
+                Light::Sphere { radius, .. } => Some((t.translation, f64::from(radius))),
+                Light::Point { .. } => None,
+            })
+            .collect();
+        if lights.is_empty() {
+            return false;
+        }
+        if self.features.motion {
+            return true;
+        }
+        let reaches = |lo: DVec3, hi: DVec3| lights.iter().any(|&(c, r)| c.clamp(lo, hi).distance_squared(c) <= r * r * 1.0001);
+        if reaches(self.camera.position, self.camera.position) {
+            return true;
+        }
+        for (t, s) in self.world.query::<(&Transform, &SphereShape)>().iter() {
+            let r = DVec3::splat(f64::from(s.radius));
+            if reaches(t.translation - r, t.translation + r) {
+                return true;
+            }
+        }
+        for (t, m) in self.world.query::<(&Transform, &MeshShape)>().iter() {
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for tri in self.meshes.get(m.mesh).map_or(&[][..], |d| &d.triangles) {
+                for p in tri.p {
+                    let w = t.point(p);
+                    lo = lo.min(w);
+                    hi = hi.max(w);
+                }
+            }
+            if lo.x <= hi.x && reaches(lo, hi) {
+                return true;
+            }
+        }
+        false
     }
 
     /// Triangles over all mesh instances (quads count two).

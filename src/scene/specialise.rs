@@ -42,15 +42,18 @@ pub const SCENE_AREA_LIGHTS: &str = "SCENE_AREA_LIGHTS";
 pub const SCENE_SPECULAR: &str = "SCENE_SPECULAR";
 /// Exactly one light: the light loops become straight code.
 pub const SCENE_ONE_LIGHT: &str = "SCENE_ONE_LIGHT";
+/// Whether a sphere light may hold a shading point inside it.
+pub const SCENE_INSIDE_LIGHTS: &str = "SCENE_INSIDE_LIGHTS";
 
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 6] = [
+pub const GENERIC: [(&str, bool); 7] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
     (SCENE_AREA_LIGHTS, true),
     (SCENE_SPECULAR, true),
     (SCENE_ONE_LIGHT, false),
+    (SCENE_INSIDE_LIGHTS, true),
 ];
 
 /// The specialisations for a scene with `f`: only the constants that
@@ -76,6 +79,13 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     if f.lights == 1 {
         out.push(Specialisation { constant: SCENE_ONE_LIGHT, value: true, reason: "one light: no light loop" });
     }
+    if !f.enclosing_lights {
+        out.push(Specialisation {
+            constant: SCENE_INSIDE_LIGHTS,
+            value: false,
+            reason: "no sphere light reaches a surface or the camera: sampling from inside one compiled out",
+        });
+    }
     out
 }
 
@@ -99,13 +109,16 @@ mod tests {
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false)]);
+        // One that may hold a surface or the camera keeps sampling from inside.
+        let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
         assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false)]);
     }
 
     #[test]

@@ -738,3 +738,24 @@ fn cornell_triangles_pair_up_as_quads_in_leaf_order() {
     d.triangles.pop();
     assert!(!d.flat_pairs());
 }
+
+/// `may_enclose`: whether a sphere light can hold a shading point (its
+/// from-inside sampling is compiled out otherwise).
+#[test]
+fn sphere_lights_that_may_hold_a_shading_point() {
+    let parsed = |text: &str| parse(text, Path::new("/nowhere/x.ron")).unwrap_or_else(|e| panic!("{e}"));
+    for name in ["cornell.ron", "cornell-point.ron", "thesis-env1.ron"] {
+        assert!(!shipped(name).may_enclose(), "{name}");
+    }
+    // A light apart from the sphere, one reaching into it, one around the
+    // camera (at z = 3.4).
+    assert!(!parsed(&scene(SPHERE, LIGHT)).may_enclose());
+    let touching = r#"        SphereLight(center: (0.0, 0.8, 0.0), radius: 0.31, radiance: (1.0, 1.0, 1.0)),"#;
+    assert!(parsed(&scene(SPHERE, touching)).may_enclose());
+    let around = r#"        SphereLight(center: (0.0, 0.0, 3.0), radius: 0.5, radiance: (1.0, 1.0, 1.0)),"#;
+    assert!(parsed(&scene("", around)).may_enclose());
+    // Point lights hold nothing; anything moving may get anywhere.
+    let point = r#"        PointLight(position: (0.0, 0.0, 0.0), intensity: (1.0, 1.0, 1.0)),"#;
+    assert!(!parsed(&scene(SPHERE, point)).may_enclose());
+    assert!(shipped("moving-lights.ron").may_enclose());
+}
