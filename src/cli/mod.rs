@@ -24,6 +24,7 @@ mod bench_frames;
 mod converge_cmd;
 mod graph_cmd;
 mod render_cmd;
+mod stress;
 mod thesis_cmd;
 mod trade_cmd;
 mod trade_motion;

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::bench_cmd::{stress_frame, StressStep};
+use super::stress::{stress_frame, StressStep};
 use super::trade_run::{cached_reference, ReferenceSpec, Run};
 use crate::error::UserError;
 use crate::gpu::readback::ImageF32;
