@@ -28,16 +28,8 @@ use crate::viewer::present::{Present, Rect};
 use crate::viewer::presents::Presents;
 use crate::viewer::reloader::Reloader;
 use crate::viewer::screenshot;
+use crate::viewer::window::{self, pick_format, PANEL_WIDTH};
 use crate::viewer::ViewOptions;
-
-/// Width of the side panel in logical pixels.
-pub const PANEL_WIDTH: f32 = 340.0;
-
-/// The window's least height: the side panel's sections fit without
-/// scrolling (logical pixels).
-const MIN_WINDOW_HEIGHT: u32 = 760;
-/// The largest window side asked for, in logical pixels.
-const MAX_WINDOW_SIDE: f64 = 8192.0;
 
 /// Milliseconds between window frames while a scene frame is running.
 const UI_WHILE_RENDERING_MS: u64 = 40;
@@ -119,27 +111,9 @@ pub struct Viewer {
     pub done: bool,
 }
 
-fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> {
-    // egui-wgpu and the present pass encode sRGB themselves.
-    let preferred = [wgpu::TextureFormat::Bgra8Unorm, wgpu::TextureFormat::Rgba8Unorm];
-    preferred.into_iter().find(|f| caps.formats.contains(f)).or_else(|| caps.formats.iter().copied().find(|f| !f.is_srgb()))
-}
-
 impl Viewer {
     pub fn new(event_loop: &ActiveEventLoop, options: ViewOptions, scene: crate::scene::Scene) -> Result<Viewer, UserError> {
-        let (w, h) = options.size;
-        // The window asks for at most MAX_WINDOW_SIDE a side whatever the
-        // render size (the image is shown scaled; X11 takes no side above
-        // 65535, and winit panics on one); a size no adapter renders is
-        // refused by the session, as `render` refuses it.
-        let (max_w, max_h) = (MAX_WINDOW_SIDE, MAX_WINDOW_SIDE);
-        let attrs = Window::default_attributes()
-            .with_title(format!("glint: {}", options.scene.display()))
-            .with_inner_size(winit::dpi::LogicalSize::new(
-                (f64::from(w) + f64::from(PANEL_WIDTH)).min(max_w),
-                f64::from(h.max(MIN_WINDOW_HEIGHT)).min(max_h),
-            ));
-        let window = Arc::new(event_loop.create_window(attrs).map_err(|e| UserError::new(format!("cannot open a window: {e}")))?);
+        let window = Arc::new(event_loop.create_window(window::attributes(&options)).map_err(|e| UserError::new(format!("cannot open a window: {e}")))?);
         let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
         let instance = wgpu::Instance::new(descriptor);
         let surface = instance

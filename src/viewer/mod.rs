@@ -14,6 +14,7 @@ pub mod present;
 pub mod presents;
 mod reloader;
 mod screenshot;
+mod window;
 
 use std::path::PathBuf;
 
