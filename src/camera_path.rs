@@ -49,8 +49,7 @@ impl CameraPath {
         }
         if let Some(file) = arg.strip_prefix("keys:") {
             let path = Path::new(file);
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| UserError::in_file(path, format!("cannot read the camera path: {e}")))?;
+            let text = crate::error::read_user_text(path, "camera path")?;
             let keys: Vec<Key> = ron::Options::default().from_str(&text).map_err(|e| ron_error(path, &e))?;
             let finite = |v: (f64, f64, f64)| v.0.is_finite() && v.1.is_finite() && v.2.is_finite();
             if keys.is_empty() || keys.iter().any(|k| !k.time_s.is_finite() || !finite(k.position) || !finite(k.target)) {

@@ -123,6 +123,25 @@ pub fn line_of_nth(text: &str, needle: &str, n: usize, from: usize) -> Option<us
     Some(text[..at].matches('\n').count() + 1)
 }
 
+/// A user's file, whole: only a regular file is read (a device such as
+/// /dev/zero would be read forever, a pipe would wait for a writer). The
+/// error names the file and says what it was to be (`what`: "scene file").
+pub fn read_user_file(path: &Path, what: &str) -> Result<Vec<u8>, UserError> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => return Err(UserError::in_file(path, format!("is a folder; give the {what}"))),
+        Ok(m) if !m.is_file() => {
+            return Err(UserError::in_file(path, format!("is not a regular file (a device or a pipe); give the {what} as a file")));
+        }
+        _ => {}
+    }
+    std::fs::read(path).map_err(|e| UserError::in_file(path, format!("cannot read the {what}: {e}")))
+}
+
+/// `read_user_file` as UTF-8 text.
+pub fn read_user_text(path: &Path, what: &str) -> Result<String, UserError> {
+    String::from_utf8(read_user_file(path, what)?).map_err(|_| UserError::in_file(path, format!("cannot read the {what}: it is not UTF-8 text")))
+}
+
 /// Converts a RON parse error into a `UserError` at its position.
 pub fn ron_error(file: &Path, err: &ron::error::SpannedError) -> UserError {
     // ron's own advice here is for a program's author (raise the limit,

@@ -83,7 +83,7 @@ fn write_pfm(img: &ImageF32, path: &Path, channels: usize) -> std::io::Result<()
 /// Reads a colour PFM (`PF`), either byte order.
 fn load_pfm(path: &Path) -> Result<ImageF32, UserError> {
     let bad = |m: &str| UserError::in_file(path, format!("not a colour PFM: {m}"));
-    let bytes = std::fs::read(path).map_err(|e| UserError::in_file(path, format!("cannot read the image: {e}")))?;
+    let bytes = crate::error::read_user_file(path, "image")?;
     // Three whitespace-separated header tokens after "PF", then one byte.
     let mut fields = Vec::new();
     let mut at = 0;

@@ -80,8 +80,7 @@ pub struct Machines {
 impl Machines {
     /// Load and check a profiles file (scales in (0, 4], positive targets, `pass.param` keys).
     pub fn load(path: &Path) -> Result<Machines, UserError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| UserError::in_file(path, format!("cannot read machine profiles: {e}")))?;
+        let text = crate::error::read_user_text(path, "machine profiles")?;
         let mut m: Machines = ron::Options::default()
             .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
             .from_str(&text)

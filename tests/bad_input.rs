@@ -290,6 +290,20 @@ fn round_two_is_a_clear_error() {
     };
     #[cfg(unix)]
     cases.push(("a shader linked out of the shader folder", vec!["graph", "check", &link_graph], vec![], vec!["evil.wgsl", "leads to /etc/passwd, outside the shader folder"]));
+    // A device as the scene or the graph (read forever before) and a
+    // folder as the scene.
+    #[cfg(unix)]
+    let zero = {
+        let link = dir.join("zero.ron");
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        link.display().to_string()
+    };
+    #[cfg(unix)]
+    cases.extend([
+        ("/dev/zero as the scene", vec!["render", "/dev/zero", "--out", &out], vec![], vec!["/dev/zero: is not a regular file", "scene file"]),
+        ("a link to /dev/zero as the graph", vec!["graph", "check", &zero], vec![], vec!["zero.ron: is not a regular file", "graph file"]),
+    ]);
+    cases.push(("a folder as the scene", vec!["render", "scenes", "--out", &out], vec![], vec!["scenes: is a folder; give the scene file"]));
     let mut failed = Vec::new();
     for (what, args, env, needles) in &cases {
         let (code, err) = glint_env(args, env);

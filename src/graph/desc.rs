@@ -416,8 +416,7 @@ impl FrameGraph {
 
     /// Read and parse a graph file.
     pub fn load(path: &Path) -> Result<FrameGraph, UserError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| UserError::in_file(path, format!("cannot read the graph file: {e}")))?;
+        let text = crate::error::read_user_text(path, "graph file")?;
         Self::parse(&text, path)
     }
 }

@@ -144,8 +144,7 @@ pub fn load_and_compile(
     features: &SceneFeatures,
     options: &CompileOptions,
 ) -> Result<CompiledGraph, UserError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| UserError::in_file(path, format!("cannot read the graph file: {e}")))?;
+    let text = crate::error::read_user_text(path, "graph file")?;
     let desc = FrameGraph::parse(&text, path)?;
     let shaders = load_shaders(&desc, shader_dir)?;
     compile_loaded(path, desc, shaders, features, options)

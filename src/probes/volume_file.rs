@@ -105,7 +105,7 @@ impl VolumeFile {
 
     /// Reads a volume from `path` (without checking it fits: see `VolumeHeader::mismatch`).
     pub fn load(path: &Path) -> Result<VolumeFile, UserError> {
-        let bytes = std::fs::read(path).map_err(|e| UserError::in_file(path, format!("cannot read the volume: {e}")))?;
+        let bytes = crate::error::read_user_file(path, "volume")?;
         Self::from_bytes(&bytes).map_err(|e| UserError::in_file(path, e))
     }
 }

@@ -34,8 +34,7 @@ pub fn load(path: &Path) -> Result<Scene, UserError> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")) {
         return super::obj_scene::open_obj(path);
     }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| UserError::in_file(path, format!("cannot read the scene file: {e}")))?;
+    let text = crate::error::read_user_text(path, "scene file")?;
     parse(&text, path)
 }
 

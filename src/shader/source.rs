@@ -122,9 +122,9 @@ fn expand(path: &Path, dir: &Path, from: Option<Location>, src: &mut ShaderSourc
         return Ok(());
     }
     check_resolved_inside(path, dir, from.as_ref())?;
-    let text = std::fs::read_to_string(path).map_err(|e| match &from {
-        Some(loc) => UserError::at(loc.clone(), format!("cannot import {}: {e}", path.display())),
-        None => UserError::in_file(path, format!("cannot read the shader: {e}")),
+    let text = crate::error::read_user_text(path, "shader").map_err(|e| match &from {
+        Some(loc) => UserError::at(loc.clone(), format!("cannot import {}: {}", path.display(), e.message)),
+        None => e,
     })?;
     if text.trim().is_empty() {
         let what = if from.is_some() { "the imported shader" } else { "the shader" };

@@ -93,7 +93,7 @@ impl Setting {
 impl Sweep {
     /// Read and check a sweep file.
     pub fn load(path: &Path) -> Result<Sweep, UserError> {
-        let text = std::fs::read_to_string(path).map_err(|e| UserError::in_file(path, format!("cannot read the sweep: {e}")))?;
+        let text = crate::error::read_user_text(path, "sweep")?;
         Sweep::parse(&text, path)
     }
 
