@@ -123,6 +123,21 @@ pub fn line_of_nth(text: &str, needle: &str, n: usize, from: usize) -> Option<us
     Some(text[..at].matches('\n').count() + 1)
 }
 
+/// A number for a message: as written below 1e6 (`0.5`, `4096`), else
+/// in exponent form with at most four significant digits (`1e30`,
+/// `9.999e16`: an f32's exact value says nothing more), as are nonzero
+/// magnitudes below 1e-3.
+pub fn figure(x: f64) -> String {
+    if !x.is_finite() || x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
+        return format!("{x}");
+    }
+    let s = format!("{x:.3e}");
+    match s.split_once('e') {
+        Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+        None => s,
+    }
+}
+
 /// A user's file, whole: only a regular file is read (a device such as
 /// /dev/zero would be read forever, a pipe would wait for a writer). The
 /// error names the file and says what it was to be (`what`: "scene file").
@@ -158,6 +173,17 @@ pub fn ron_error(file: &Path, err: &ron::error::SpannedError) -> UserError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn figures_are_short() {
+        assert_eq!(figure(0.5), "0.5");
+        assert_eq!(figure(4096.0), "4096");
+        assert_eq!(figure(0.0), "0");
+        assert_eq!(figure(1e30), "1e30");
+        assert_eq!(figure(9.999999843067494e16), "1e17");
+        assert_eq!(figure(-2.5e-5), "-2.5e-5");
+        assert_eq!(figure(f64::NAN), "NaN");
+    }
 
     #[test]
     fn lines_are_one_based() {

@@ -9,21 +9,11 @@
 mod common;
 
 use common::*;
-use glint::graph::CompileOptions;
 use glint::metrics;
 
-fn render(scene: &str, graph: &str, size: (u32, u32), frames: u32) -> glint::gpu::readback::ImageF32 {
-    let gpu = gpu().expect("gpu");
-    let g = compile(&scene_from(scene), &repo().join("passes").join(graph), &CompileOptions::default());
-    let mut s = session(gpu, scene_from(scene), &g, size, 3);
-    for _ in 0..frames {
-        s.frame(0.0);
-    }
-    s.read_output().unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn mean(img: &glint::gpu::readback::ImageF32) -> f64 {
-    img.data.iter().map(|p| f64::from(p[0] + p[1] + p[2]) / 3.0).sum::<f64>() / img.data.len() as f64
+/// `graph` (under passes/) on the scene `text`, `frames` frames.
+fn draw(text: &str, graph: &str, size: (u32, u32), frames: u32) -> glint::gpu::readback::ImageF32 {
+    render(gpu().expect("gpu"), scene_from(text), &repo().join("passes").join(graph), size, frames, None)
 }
 
 /// One triangle in the plane z = 0 (`tri.obj`, 2 units across) scaled by
@@ -55,20 +45,20 @@ fn a_triangle_of_any_size_at_any_distance_is_lit() {
     let obj = dir.join("tri.obj");
     std::fs::write(&obj, "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let size = (32, 32);
-    let reference = render(&triangle_scene(&obj, 1.0, 1.0), "direct.ron", size, 2);
-    assert!(mean(&reference) > 0.02, "{}", mean(&reference));
+    let reference = draw(&triangle_scene(&obj, 1.0, 1.0), "direct.ron", size, 2);
+    assert!(mean_rgb(&reference) > 0.02, "{}", mean_rgb(&reference));
     let mut failed = Vec::new();
     for s in [1e-6, 1e-3, 1e3, 1e6, 1e9, 1e12] {
-        let image = render(&triangle_scene(&obj, s, s), "direct.ron", size, 2);
+        let image = draw(&triangle_scene(&obj, s, s), "direct.ron", size, 2);
         let (flip, _) = metrics::flip(&reference, &image);
         eprintln!("triangle {s:e} seen from {:e}: FLIP {:.5}", 4.4 * s, flip.mean);
         if flip.mean > 0.01 {
             failed.push(format!("size {s:e} seen from {:e}: FLIP {:.4}", 4.4 * s, flip.mean));
         }
     }
-    let filling = render(&triangle_scene(&obj, 1e3, 1.0), "direct.ron", size, 2);
+    let filling = draw(&triangle_scene(&obj, 1e3, 1.0), "direct.ron", size, 2);
     for s in [1e6, 1e9, 1e12] {
-        let image = render(&triangle_scene(&obj, s, 1.0), "direct.ron", size, 2);
+        let image = draw(&triangle_scene(&obj, s, 1.0), "direct.ron", size, 2);
         let (flip, _) = metrics::flip(&filling, &image);
         eprintln!("triangle {s:e} seen from 4.4: FLIP {:.5} against 1e3", flip.mean);
         if flip.mean > 0.01 {
@@ -92,11 +82,11 @@ fn one_huge_quad_leaves_the_rest_of_the_scene_as_it_was() {
     let with_quad = text.replacen("    ],\n    lights:", quad, 1);
     assert_ne!(with_quad, text, "cornell.ron's objects list changed shape");
     for graph in ["direct.ron", "hybrid.ron"] {
-        let alone = render(&text, graph, (48, 48), 4);
-        let beside = render(&with_quad, graph, (48, 48), 4);
+        let alone = draw(&text, graph, (48, 48), 4);
+        let beside = draw(&with_quad, graph, (48, 48), 4);
         let (flip, _) = metrics::flip(&alone, &beside);
         eprintln!("{graph}: FLIP {:.5} with a 1e9 quad in the scene", flip.mean);
-        assert!(flip.mean <= 0.01, "{graph}: FLIP {} with a 1e9 quad in the scene (means {} and {})", flip.mean, mean(&alone), mean(&beside));
+        assert!(flip.mean <= 0.01, "{graph}: FLIP {} with a 1e9 quad in the scene (means {} and {})", flip.mean, mean_rgb(&alone), mean_rgb(&beside));
     }
 }
 
@@ -115,9 +105,9 @@ fn a_sphere_light_around_the_camera_lights_the_scene() {
         objects: [ Quad(vertices: [(-1.0, -1.0, -1.0), (-1.0, -1.0, 1.0), (1.0, -1.0, 1.0), (1.0, -1.0, -1.0)], material: \"white\") ],\n\
         lights: [ SphereLight(center: (0.0, 0.0, 0.0), radius: 5.0, radiance: (1.0, 1.0, 1.0)) ])";
     for graph in ["direct.ron", "pathtrace.ron"] {
-        let image = render(scene, graph, (16, 16), 128);
+        let image = draw(scene, graph, (16, 16), 128);
         // The view looks straight down on the floor, which fills it.
-        let m = mean(&image);
+        let m = mean_rgb(&image);
         eprintln!("{graph}: floor radiance {m:.4} (albedo x L = 0.8)");
         assert!((m / 0.8 - 1.0).abs() < 0.05, "{graph}: floor radiance {m} where albedo x L is 0.8");
     }

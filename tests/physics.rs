@@ -20,7 +20,7 @@ fn furnace_path_tracer() {
         )"#,
     );
     let img = render(gpu, scene, &repo().join("passes/pathtrace.ron"), (32, 32), 128, None);
-    let mean: f64 = img.data.iter().map(|p| f64::from(p[0] + p[1] + p[2]) / 3.0).sum::<f64>() / img.data.len() as f64;
+    let mean = mean_rgb(&img);
     assert!((mean - 2.0).abs() < 0.02, "furnace mean {mean}, expected 2.0");
     for p in &img.data {
         assert!((f64::from(p[0]) - 2.0).abs() < 0.5, "pixel {p:?} far from 2.0");

@@ -174,8 +174,7 @@ fn indirect_seen(camera: &str, mode: &str) -> f64 {
     for _ in 0..64 {
         s.frame(0.0);
     }
-    let img = s.read_output().unwrap_or_else(|e| panic!("{e}"));
-    img.data.iter().map(|p| f64::from(p[0] + p[1] + p[2]) / 3.0).sum::<f64>() / img.data.len() as f64
+    mean_rgb(&s.read_output().unwrap_or_else(|e| panic!("{e}")))
 }
 
 #[test]
@@ -324,14 +323,7 @@ const FLAT: &str = r#"Scene(
 )"#;
 
 fn mean_of(graph: &str, scene: &str, frames: u32) -> f64 {
-    let gpu = gpu().expect("gpu");
-    let g = compile(&scene_from(scene), &repo().join(graph), &CompileOptions::default());
-    let mut s = session(gpu, scene_from(scene), &g, (24, 24), 1);
-    for _ in 0..frames {
-        s.frame(0.0);
-    }
-    let img = s.read_output().unwrap_or_else(|e| panic!("{e}"));
-    img.data.iter().map(|p| f64::from(p[0] + p[1] + p[2]) / 3.0).sum::<f64>() / img.data.len() as f64
+    mean_rgb(&render(gpu().expect("gpu"), scene_from(scene), &repo().join(graph), (24, 24), frames, None))
 }
 
 /// The volume of a flat scene lit by a point light: a probe layer above

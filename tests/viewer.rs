@@ -91,16 +91,23 @@ fn viewport(line: &str) -> (u32, u32, u32, u32) {
     (n(x), n(y), n(w), n(h))
 }
 
+/// Whether `xvfb-run` and a GPU adapter are here for a window test (CI
+/// must have both: tools/test installs them).
+fn can_run_xvfb() -> bool {
+    if Command::new("xvfb-run").arg("--help").output().is_err() {
+        assert!(std::env::var("CI").map_or(true, |v| v != "true"), "CI needs xvfb-run (tools/test installs it)");
+        eprintln!("skipping: no xvfb-run");
+        return false;
+    }
+    gpu().is_some()
+}
+
 #[test]
 fn window_shows_what_render_renders() {
     let _window = one_window_at_a_time();
-    let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
-    if !has_xvfb {
-        assert!(std::env::var("CI").map_or(true, |v| v != "true"), "CI needs xvfb-run (tools/test installs it)");
-        eprintln!("skipping: no xvfb-run");
+    if !can_run_xvfb() {
         return;
     }
-    let Some(_) = gpu() else { return };
     let dir = scratch("viewer");
     let shot = dir.join("view.png");
     let glint = env!("CARGO_BIN_EXE_glint");
@@ -334,11 +341,9 @@ fn the_panel_stays_live_while_a_frame_renders() {
 #[test]
 fn a_size_no_adapter_renders_is_refused() {
     let _window = one_window_at_a_time();
-    if Command::new("xvfb-run").arg("--help").output().is_err() {
-        assert!(std::env::var("CI").map_or(true, |v| v != "true"), "CI needs xvfb-run (tools/test installs it)");
+    if !can_run_xvfb() {
         return;
     }
-    let Some(_) = gpu() else { return };
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1024x768x24", env!("CARGO_BIN_EXE_glint"), "view", "scenes/cornell.ron"])
         .args(["--size", "100000x100000", "--frames", "1", "--screenshot"])

@@ -115,8 +115,8 @@ pub(super) fn run(args: StressArgs) -> Result<(), UserError> {
     // no frame of MAX_STRESS_TRIANGLES reaches would run for hours.
     if !(args.target_ms.is_finite() && args.target_ms > 0.0 && args.target_ms <= MAX_STRESS_TARGET_MS) {
         return Err(UserError::new(format!(
-            "--target-ms {:e}: give a frame time in milliseconds above 0 and at most {MAX_STRESS_TARGET_MS} (the steps stop at {MAX_STRESS_TRIANGLES} triangles anyway)",
-            args.target_ms
+            "--target-ms {}: give a frame time in milliseconds above 0 and at most {MAX_STRESS_TARGET_MS} (the steps stop at {MAX_STRESS_TRIANGLES} triangles anyway)",
+            crate::error::figure(args.target_ms)
         )));
     }
     let gpu = Gpu::new()?;

@@ -48,15 +48,13 @@ const MAX_GPU_TIMEOUT_S: f64 = 1e6;
 /// number of seconds up to MAX_GPU_TIMEOUT_S, or what is wrong with it.
 pub fn parse_gpu_timeout(value: Option<&str>) -> Result<std::time::Duration, String> {
     let Some(v) = value else { return Ok(std::time::Duration::from_secs(120)) };
-    let secs = v.trim().parse::<f64>().map_err(|_| {
-        let shown = if v.trim().is_empty() { " is empty".to_string() } else { format!("=`{v}` is not a number") };
-        format!("GLINT_GPU_TIMEOUT_S{shown}: give the seconds glint waits for the GPU before giving up, above 0 and at most {MAX_GPU_TIMEOUT_S} (unset: 120)")
-    })?;
-    if !(secs.is_finite() && secs > 0.0 && secs <= MAX_GPU_TIMEOUT_S) {
-        return Err(format!(
-            "GLINT_GPU_TIMEOUT_S=`{v}`: give the seconds glint waits for the GPU before giving up, above 0 and at most {MAX_GPU_TIMEOUT_S} (unset: 120)"
-        ));
-    }
+    let refuse = |what: String| format!("GLINT_GPU_TIMEOUT_S{what}: give the seconds glint waits for the GPU before giving up, above 0 and at most {MAX_GPU_TIMEOUT_S} (unset: 120)");
+    let secs = match v.trim().parse::<f64>() {
+        Ok(secs) if secs.is_finite() && secs > 0.0 && secs <= MAX_GPU_TIMEOUT_S => secs,
+        Ok(_) => return Err(refuse(format!("=`{v}`"))),
+        Err(_) if v.trim().is_empty() => return Err(refuse(" is empty".into())),
+        Err(_) => return Err(refuse(format!("=`{v}` is not a number"))),
+    };
     Ok(std::time::Duration::from_secs_f64(secs))
 }
 

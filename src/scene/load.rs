@@ -264,8 +264,8 @@ impl<'a, 'l> Builder<'a, 'l> {
                 "scale",
                 format_args!(
                     "the mesh reaches {} from its origin; scaled by {scale:e} that is {}, beyond glint's range of {:e} (f32 on the GPU)",
-                    short(local),
-                    short(extent),
+                    crate::error::figure(local),
+                    crate::error::figure(extent),
                     validate::MAX_RANGE
                 ),
             ));
@@ -412,16 +412,5 @@ impl<'a, 'l> Builder<'a, 'l> {
             flags.1 |= m.emission.iter().any(|&e| e > 0.0);
         }
         flags
-    }
-}
-
-/// A large figure in four significant digits (`1e20`, `9.999e16`: the
-/// f32 vertices' exact values say nothing more).
-fn short(v: f64) -> String {
-    let s = format!("{v:.3e}");
-    // 1.000e20 -> 1e20, 9.990e16 -> 9.99e16
-    match s.split_once('e') {
-        Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
-        None => s,
     }
 }

@@ -101,8 +101,9 @@ impl SceneGpu {
     /// mean position; the camera's where there are none).
     pub fn probe_grid(&self, probes: Option<crate::graph::desc::ProbesDesc>) -> Option<crate::probes::ProbeGrid> {
         let (p, (lo, hi)) = (probes?, self.bounds?);
-        let lights: Vec<DVec3> = self.scene.world.query::<(&Transform, &Light)>().iter().map(|(t, _)| t.translation).collect();
-        let toward = if lights.is_empty() { self.scene.camera.position } else { lights.iter().sum::<DVec3>() / lights.len() as f64 };
+        // (Every frame: a sum over the lights, no allocation.)
+        let (sum, n) = self.scene.world.query::<(&Transform, &Light)>().iter().fold((DVec3::ZERO, 0.0), |(s, n), (t, _)| (s + t.translation, n + 1.0));
+        let toward = if n > 0.0 { sum / n } else { self.scene.camera.position };
         crate::probes::ProbeGrid::over_bounds((lo - self.origin).as_vec3(), (hi - self.origin).as_vec3(), p.level, p.padding, (toward - self.origin).as_vec3())
     }
 

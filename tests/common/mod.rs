@@ -168,6 +168,11 @@ pub const JUMPING_LIGHT: &str = r#"Scene(
     ],
 )"#;
 
+/// The mean over an image's pixels of the mean of r, g and b.
+pub fn mean_rgb(img: &ImageF32) -> f64 {
+    img.data.iter().map(|p| f64::from(p[0] + p[1] + p[2]) / 3.0).sum::<f64>() / img.data.len() as f64
+}
+
 /// A pixel's luminance (Rec. 709 weights, as the shaders' `luminance`).
 pub fn luminance(p: &[f32; 4]) -> f64 {
     0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])

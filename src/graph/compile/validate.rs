@@ -400,7 +400,7 @@ fn check_constants(pass: &PassDesc, shader: &ShaderInfo) -> Result<Vec<(String, 
                 ScalarType::I32 => "i32",
                 ScalarType::Bool => "bool",
             };
-            let shown = if v.is_finite() && (v.abs() >= 1e6 || (v.abs() < 1e-3 && *v != 0.0)) { format!("{v:e}") } else { format!("{v}") };
+            let shown = crate::error::figure(*v);
             return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` = {shown} does not fit the shader's `override {k}: {ty}`: give {range}")));
         }
     }
