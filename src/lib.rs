@@ -9,6 +9,7 @@
 
 #![warn(missing_docs)]
 
+pub mod blue_noise;
 pub mod bvh;
 pub mod camera_path;
 #[cfg(test)]

@@ -5,8 +5,9 @@
 // now. Where nothing that path met has changed it gives last frame's
 // sample exactly; the difference is how much the light there changed,
 // without the noise two independent samples would differ by. Writes per
-// stratum (|new - old|, max(new, old)) in luminance; temporal.wgsl turns
-// the 3x3 strata around each pixel into the share of its history to drop.
+// stratum (new - old, max(new, old), |new - old|) in luminance;
+// temporal.wgsl turns the 3x3 strata around each pixel into the share of
+// its history to drop, restir.wgsl into the share of its reservoir's.
 // In frames where the scene did not change every gradient would be zero:
 // nothing is traced or written.
 //
@@ -45,7 +46,9 @@ fn replay(id: vec2u) -> Replay {
     let offset = vec2u(rand_u32(&pick) % STRATUM, rand_u32(&pick) % STRATUM);
     let pixel = min(id * STRATUM + offset, frame.size - 1u);
     var flat = scene_flat;
-    var rng = rng_at(rng_frame_key(prev_frame, PATH_RENDER_SALT, frame.seed), pixel);
+    let rng_key = rng_frame_key(prev_frame, PATH_RENDER_SALT, frame.seed);
+    var rng = rng_at(rng_key, pixel);
+    start_blue_noise(pixel, prev_frame, rng_key);
     let cam = frame.prev_camera;
     let rd = camera_dir(cam, pixel, rand2(&rng));
     path_primary_direct = vec3f(0.0);
@@ -63,7 +66,7 @@ fn wanted(id: vec2u) -> bool {
 fn store_gradient(id: vec2u, r: Replay, light: vec3f) {
     let now = luminance(max(light, vec3f(0.0)));
     let then = textureLoad(geo_prev, vec2i(r.pixel)).w;
-    textureStore(gradient, id, vec4f(abs(now - then), max(now, then), 0.0, 1.0));
+    textureStore(gradient, id, vec4f(now - then, max(now, then), abs(now - then), 1.0));
 }
 
 @compute @workgroup_size(128, 1)

@@ -121,7 +121,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             // temporal.wgsl cuts the denoiser's history, to (1 - g lambda)
             // / (g lambda) times this frame's candidates.
             if frame.epoch_frames == 0u && params.gradient_gain > 0.0 {
-                let lambda = min(params.gradient_gain * changed_share(gradient, then.xy), 1.0);
+                let lambda = min(params.gradient_gain * changed_share(gradient, then.xy, false), 1.0);
                 m_max = min(m_max, f32(candidates) * (1.0 - lambda) / max(lambda, 1e-6));
             }
             prev.m = min(prev.m, floor(m_max));

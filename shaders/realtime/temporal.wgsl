@@ -171,7 +171,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     if scene_changed() && params.gradient_gain > 0.0 && n > 0.0 {
         let then = project(frame.prev_camera, select(g.xyz, miss_point(frame.prev_camera, g.xyz), miss));
-        let lambda = min(params.gradient_gain * changed_share(gradient, then.xy), 1.0);
+        let lambda = min(params.gradient_gain * changed_share(gradient, then.xy, true), 1.0);
         n = min(n, (1.0 - lambda) / max(lambda, 1e-6));
     }
     if valid {

@@ -6,6 +6,7 @@
 #import flat
 #import lights
 #import rng
+#import blue_noise
 
 // The first hit of the last path traced, as the G-buffer stores it:
 // position and distance (direction and -1 on a miss), and the normal
@@ -43,6 +44,24 @@ override NEE_ONE: bool = false;
 override FIRST_DIRECT_APART: bool = false;
 var<private> path_primary_direct: vec3f;
 var<private> path_primary_ng: vec3f;
+
+// With BLUE_NOISE_FIRST, a path's first hit that is not a perfect mirror
+// draws its light choice, light sample and bounce direction from blue
+// noise (shared/blue_noise.wgsl) instead of white: set per path by
+// start_blue_noise, which the caller (path_render.wgsl, the gradient
+// pass's replay) calls for a pixel's first path.
+override BLUE_NOISE_FIRST: bool = false;
+var<private> path_bn: BlueNoise;
+var<private> path_bn_pending: bool;
+const BLUE_NOISE_SALT: u32 = 0x626e6f69u;
+
+fn start_blue_noise(pixel: vec2u, frame_index: u32, rng_key: u32) {
+    path_bn_pending = BLUE_NOISE_FIRST;
+    if BLUE_NOISE_FIRST {
+        var jitter = rng_at(rng_key ^ BLUE_NOISE_SALT, pixel);
+        path_bn = blue_noise_at(pixel, frame_index, &jitter);
+    }
+}
 
 // The path tracer's random streams (shared/path_render.wgsl): a pixel's
 // path in frame f draws from rng_at(rng_frame_key(f, PATH_RENDER_SALT,
@@ -166,10 +185,16 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     // Drawn whether or not the scene has specular surfaces, so a
     // specialised shader draws the same random numbers as a generic one.
     let u_lobe = rand_f32(rng);
+    // The white numbers below are drawn all the same, so the rest of the
+    // path draws what it would without blue noise.
+    let blue = BLUE_NOISE_FIRST && path_bn_pending && !(m.specular >= 1.0 && m.roughness <= 0.0);
+    if blue {
+        path_bn_pending = false;
+    }
     if SCENE_SPECULAR && u_lobe < m.specular {
         var dir = reflect(rd, n);
         if m.roughness > 0.0 {
-            dir = sample_glossy(dir, n, m.roughness, rand2(rng));
+            dir = sample_glossy(dir, n, m.roughness, select(rand2(rng), path_bn.a.xy, blue));
         }
         // (Written as the negated stop test: a NaN goes on, as it did.)
         go_on = !(dot(dir, ng) <= 0.0);
@@ -185,7 +210,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         var lights = light_count();
         var chosen = 1.0;
         if NEE_ONE && light_count() > 1u {
-            first = min(u32(rand_f32(rng) * f32(light_count())), light_count() - 1u);
+            first = min(u32(select(rand_f32(rng), path_bn.b.x, blue) * f32(light_count())), light_count() - 1u);
             lights = 1u;
             chosen = 1.0 / f32(light_count());
         }
@@ -196,7 +221,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             for (var j = 0u; j < lights; j++) {
                 let i = first + j;
                 let l = load_light(i);
-                let s = sample_light(l, o, rand2(rng));
+                let s = sample_light(l, o, select(rand2(rng), path_bn.a.zw, blue));
                 (*st).light_pdf = s.pdf;
                 let cos_n = dot(n, s.dir);
                 if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 {
@@ -216,7 +241,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
                 }
             }
         }
-        let dir = sample_cosine(n, rand2(rng));
+        let dir = sample_cosine(n, select(rand2(rng), path_bn.a.xy, blue));
         let cos_d = dot(n, dir);
         go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0);
         if go_on {

@@ -72,9 +72,14 @@ fn geometry_weight(p: Guide, q: Guide, scale: f32, extra: f32) -> f32 {
 const GRADIENT_STRATUM: f32 = 3.0;
 
 // The share of the light around last frame's pixel position `then`
-// that changed this frame: the 3x3 strata of `gradient` (written by
-// gradient.wgsl in frames whose scene changed) around it, summed.
-fn changed_share(gradient: texture_storage_2d<rgba32float, read>, then: vec2f) -> f32 {
+// that changed this frame, from the 3x3 strata of `gradient` (written by
+// gradient.wgsl in frames whose scene changed) around it. `mean_change`:
+// the change of their sum, |sum(new - old)| / sum(max): how much the
+// light's mean changed, single paths' changes of opposite sign cancelling
+// (the denoiser's history, which holds a mean). Otherwise the sum of the
+// paths' own changes, sum(|new - old|) / sum(max) (a reservoir holds
+// samples: one that changed is stale even where the mean did not).
+fn changed_share(gradient: texture_storage_2d<rgba32float, read>, then: vec2f, mean_change: bool) -> f32 {
     let c = vec2i(floor(then / GRADIENT_STRATUM));
     let strata = vec2i(textureDimensions(gradient));
     var diff = 0.0;
@@ -83,8 +88,8 @@ fn changed_share(gradient: texture_storage_2d<rgba32float, read>, then: vec2f) -
     for (var k = 0u; k < taps; k++) {
         let q = clamp(c + vec2i(i32(k % 3u) - 1, i32(k / 3u) - 1), vec2i(0), strata - 1);
         let g = textureLoad(gradient, q);
-        diff += g.x;
+        diff += select(g.z, g.x, mean_change);
         scale += g.y;
     }
-    return select(0.0, clamp(diff / scale, 0.0, 1.0), scale > 0.0);
+    return select(0.0, clamp(abs(diff) / scale, 0.0, 1.0), scale > 0.0);
 }

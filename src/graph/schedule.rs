@@ -49,11 +49,13 @@ pub enum EngineResource {
     /// Where the camera rays of each screen tile enter it
     /// (`crate::bvh::tiles`).
     Tiles,
+    /// Blue-noise ranks, a 64x64 tile of four channels (`crate::blue_noise`).
+    BlueNoise,
 }
 
 impl EngineResource {
     /// Every engine resource.
-    pub const ALL: [EngineResource; 12] = [
+    pub const ALL: [EngineResource; 13] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Geometry,
@@ -66,6 +68,7 @@ impl EngineResource {
         EngineResource::Flat,
         EngineResource::Entries,
         EngineResource::Tiles,
+        EngineResource::BlueNoise,
     ];
 
     /// The name a shader binds it by (`frame`, `scene_spheres`, ...).
@@ -83,6 +86,7 @@ impl EngineResource {
             EngineResource::Flat => "scene_flat",
             EngineResource::Entries => "scene_entries",
             EngineResource::Tiles => "scene_tiles",
+            EngineResource::BlueNoise => "blue_noise",
         }
     }
 
@@ -102,6 +106,7 @@ impl EngineResource {
             | EngineResource::Instances
             | EngineResource::Origins
             | EngineResource::Tiles
+            | EngineResource::BlueNoise
             | EngineResource::Materials
             | EngineResource::Lights => EngineKind::Texture,
             EngineResource::Meshes => EngineKind::Storage,

@@ -206,6 +206,8 @@ pub struct SceneBuffers {
     /// Whether the occluder lists leave out the triangles that cannot
     /// shadow their light (tests turn it off to compare).
     pub cull_occluders: bool,
+    /// Blue-noise ranks (`crate::blue_noise`), the same for every scene.
+    pub blue_noise: SceneTexture,
     /// The arrays as last uploaded.
     pub data: SceneData,
     /// Bumped whenever anything visible changed.
@@ -253,6 +255,7 @@ impl SceneBuffers {
             entries_gpu,
             tiles: SceneTexture::new(device, queue, "scene_tiles", &tile_texels),
             tile_texels,
+            blue_noise: SceneTexture::new(device, queue, "blue_noise", crate::blue_noise::texels()),
             tiles_for: None,
             tile_grid: [0, 0],
             flat_bytes,

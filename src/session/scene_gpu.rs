@@ -175,6 +175,7 @@ impl SceneGpu {
             EngineResource::Flat => b.flat.as_entire_binding(),
             EngineResource::Entries => b.entries.as_entire_binding(),
             EngineResource::Tiles => wgpu::BindingResource::TextureView(b.tiles.view()),
+            EngineResource::BlueNoise => wgpu::BindingResource::TextureView(b.blue_noise.view()),
         }
     }
 }
