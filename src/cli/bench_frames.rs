@@ -33,6 +33,11 @@ pub struct FramesArgs {
     /// Submit each pass alone and compare the passes too (by name).
     #[arg(long)]
     pub profile: bool,
+    /// Start both images over before every timed frame: times each
+    /// graph's first frame (pipelines already compiled), as a viewer sees
+    /// it after a camera cut.
+    #[arg(long)]
+    pub first_frames: bool,
 }
 
 /// One of the two graphs: its session, its frames, and each frame's wall
@@ -56,7 +61,10 @@ impl Side {
 
     /// One frame, waited for: frames in flight would otherwise overlap
     /// the other side's.
-    fn step(&mut self) -> Result<(), UserError> {
+    fn step(&mut self, restart: bool) -> Result<(), UserError> {
+        if restart {
+            self.session.restart();
+        }
         let start = std::time::Instant::now();
         self.frames.step(&mut self.session);
         if !self.session.gpu.wait() {
@@ -74,18 +82,18 @@ pub fn run(args: FramesArgs) -> Result<(), UserError> {
     let mut b = Side::new(&gpu, &args, &args.vs)?;
     // Untimed: pipeline compilation and first touch.
     for side in [&mut a, &mut b] {
-        side.step()?;
+        side.step(false)?;
         side.frames.stats = Default::default();
         side.frame_ms.clear();
     }
     for k in 0..args.frames.max(1) {
         // Each side first on every other frame, so neither always follows.
         let (first, second) = if k % 2 == 0 { (&mut a, &mut b) } else { (&mut b, &mut a) };
-        first.step()?;
-        second.step()?;
+        first.step(args.first_frames)?;
+        second.step(args.first_frames)?;
     }
     out!("adapter={}", gpu.describe());
-    out!("graph={} vs={}", args.graph.display(), args.vs.display());
+    out!("graph={} vs={}{}", args.graph.display(), args.vs.display(), if args.first_frames { " (first frames)" } else { "" });
     print_ratio("frame", &a.frame_ms, &b.frame_ms);
     for (name, ms) in &a.frames.stats.pass_ms {
         if let Some((_, other)) = b.frames.stats.pass_ms.iter().find(|(n, _)| n == name) {

@@ -152,6 +152,11 @@ pub enum RunMode {
     /// In the first frame and in every frame whose scene changed (a light
     /// or object moved) since the pass last ran.
     OnSceneChange,
+    /// In every frame whose scene changed since the pass last ran, when
+    /// the frame has a history to compare with: not in the first frame
+    /// after a start or a reset (a pass measuring what changed since last
+    /// frame has nothing to measure then).
+    OnSceneChangeWithHistory,
     /// In the first frame and in every frame where a pass that writes one
     /// of its inputs ran before it (a bake's second step after its first).
     OnInputChange,
@@ -175,6 +180,7 @@ impl RunMode {
             RunMode::EveryFrame => "every frame".into(),
             RunMode::Once => "once, after the graph is built".into(),
             RunMode::OnSceneChange => "once, then whenever the scene changes".into(),
+            RunMode::OnSceneChangeWithHistory => "whenever the scene changes, from the second frame of a history on".into(),
             RunMode::OnInputChange => "once, then whenever a pass writing its input ran".into(),
             RunMode::Progressive { per_frame, until: Some(u) } => {
                 format!("{per_frame} iterations a frame until {u} since the scene last changed")

@@ -143,6 +143,10 @@ pub struct Executor {
     /// whose shader declares CAMERA_STILL then run its still pipeline. The
     /// session sets it before each frame.
     pub camera_still: bool,
+    /// Whether this frame has a last frame in its history (passes that
+    /// run `OnSceneChangeWithHistory` need one). The session sets it
+    /// before each frame.
+    pub has_history: bool,
 }
 
 /// What the executor binds for an engine resource.
@@ -350,7 +354,7 @@ impl Executor {
         // layout is the same, so kept history textures stay in step.
         let parity = previous.filter(|p| p.schedule.flips_parity == schedule.flips_parity).map_or(0, |p| p.parity);
         let runs = vec![RunState::default(); passes.len()];
-        Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, camera_still: false })
+        Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, camera_still: false, has_history: false })
     }
 
     /// Writes pass `pass`'s packed params (after `PassParams::set`).
@@ -431,7 +435,7 @@ impl Executor {
         let mut plan = Vec::with_capacity(self.passes.len());
         for (i, sp) in self.schedule.passes.iter().enumerate() {
             let inputs_ran = sp.inputs_from.iter().any(|&p| p < i && plan.get(p).is_some_and(|&(n, _): &(u32, u64)| n > 0));
-            let (these, next) = self.runs[i].plan(sp.run, epoch, inputs_ran);
+            let (these, next) = self.runs[i].plan(sp.run, epoch, inputs_ran, self.has_history);
             self.runs[i] = next;
             plan.push((these.len() as u32, records.len() as u64));
             records.extend(these);
@@ -449,7 +453,7 @@ impl Executor {
     /// next frame with the scene at `epoch`.
     pub fn updates_persistent(&self, epoch: u32) -> bool {
         self.schedule.passes.iter().zip(&self.runs).any(|(sp, st)| {
-            sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !st.plan(sp.run, epoch, false).0.is_empty()
+            sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !st.plan(sp.run, epoch, false, self.has_history).0.is_empty()
         })
     }
 

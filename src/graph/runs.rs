@@ -38,14 +38,21 @@ pub struct RunState {
 impl RunState {
     /// This frame's dispatches of a pass running `mode` with the scene at
     /// `epoch`, and the state after them; `inputs_ran`: a pass writing one
-    /// of its inputs ran earlier this frame.
-    pub fn plan(self, mode: RunMode, epoch: u32, inputs_ran: bool) -> (Vec<RunGpu>, RunState) {
+    /// of its inputs ran earlier this frame; `has_history`: the frame has a
+    /// last frame to compare with.
+    pub fn plan(self, mode: RunMode, epoch: u32, inputs_ran: bool, has_history: bool) -> (Vec<RunGpu>, RunState) {
         let changed = self.last_epoch != Some(epoch);
         let since = if changed { 0 } else { self.since_change };
         let count = match mode {
             RunMode::EveryFrame => 1,
             RunMode::Once => u32::from(self.last_epoch.is_none()),
             RunMode::OnSceneChange => u32::from(changed),
+            RunMode::OnSceneChangeWithHistory if !has_history => {
+                // Nothing to compare with; the scene as it is now is what
+                // the next frame's change is measured from.
+                return (Vec::new(), RunState { last_epoch: Some(epoch), ..self });
+            }
+            RunMode::OnSceneChangeWithHistory => u32::from(changed),
             RunMode::OnInputChange => u32::from(self.last_epoch.is_none() || inputs_ran),
             RunMode::Progressive { per_frame, until: None } => per_frame,
             RunMode::Progressive { per_frame, until: Some(u) } => per_frame.min(u.saturating_sub(since)),
@@ -70,7 +77,7 @@ mod tests {
         epochs
             .iter()
             .map(|&e| {
-                let (records, next) = st.plan(mode, e, false);
+                let (records, next) = st.plan(mode, e, false, true);
                 st = next;
                 records.iter().map(|r| (r.iteration, r.since_change)).collect()
             })
@@ -95,11 +102,28 @@ mod tests {
     }
 
     #[test]
+    fn with_history_skips_frames_without_one_and_tracks_the_epoch() {
+        let mut st = RunState::default();
+        let mut counts = Vec::new();
+        // (epoch, has_history): a start, still frames, a change, a reset
+        // with a change, then a still frame after it.
+        for (epoch, history) in [(0, false), (0, true), (1, true), (1, true), (2, false), (2, true)] {
+            let (records, next) = st.plan(RunMode::OnSceneChangeWithHistory, epoch, false, history);
+            st = next;
+            counts.push(records.len());
+        }
+        assert_eq!(counts, vec![0, 0, 1, 0, 0, 0]);
+        // Kept across a rebuild with history: the first frame runs.
+        let (records, _) = RunState::default().plan(RunMode::OnSceneChangeWithHistory, 5, false, true);
+        assert_eq!(records.len(), 1);
+    }
+
+    #[test]
     fn on_input_change_runs_after_its_inputs_changed() {
         let mut st = RunState::default();
         let mut counts = Vec::new();
         for inputs_ran in [false, false, true, false, true] {
-            let (records, next) = st.plan(RunMode::OnInputChange, 0, inputs_ran);
+            let (records, next) = st.plan(RunMode::OnInputChange, 0, inputs_ran, true);
             st = next;
             counts.push(records.len());
         }
@@ -120,7 +144,7 @@ mod tests {
 
     #[test]
     fn records_number_the_dispatches_of_a_frame() {
-        let (records, _) = RunState::default().plan(RunMode::Progressive { per_frame: 4, until: None }, 0, false);
+        let (records, _) = RunState::default().plan(RunMode::Progressive { per_frame: 4, until: None }, 0, false, true);
         assert_eq!(records.iter().map(|r| (r.index, r.count)).collect::<Vec<_>>(), vec![(0, 4), (1, 4), (2, 4), (3, 4)]);
     }
 }

@@ -280,6 +280,7 @@ impl Session {
         // pipelines (as a specialisation: not with --no-specialise).
         let still = bytemuck::bytes_of(&frame.camera) == bytemuck::bytes_of(&frame.prev_camera);
         self.executor.camera_still = still && self.executor.schedule.specialise;
+        self.executor.has_history = st.history_frames > 0;
         let timings = self.executor.run_frame_with(&self.gpu, self.timing, epoch, hook);
         st.last = Some((world_camera, epoch));
         st.frame_index = st.frame_index.wrapping_add(1);
