@@ -161,14 +161,30 @@ impl Scene {
                 grow(t.translation, f64::from(radius));
             }
         }
-        for (t, m) in self.world.query::<(&Transform, &MeshShape)>().iter() {
-            for tri in self.meshes.get(m.mesh).map_or(&[][..], |d| &d.triangles) {
-                for p in tri.p {
-                    grow(t.point(p), 0.0);
-                }
-            }
+        for (mesh_lo, mesh_hi) in self.mesh_bounds() {
+            grow(mesh_lo, 0.0);
+            grow(mesh_hi, 0.0);
         }
         (lo.x <= hi.x).then_some((lo, hi))
+    }
+
+    /// The world-space box of each mesh instance that has triangles.
+    fn mesh_bounds(&self) -> Vec<(DVec3, DVec3)> {
+        let mut out = Vec::new();
+        for (t, m) in self.world.query::<(&Transform, &MeshShape)>().iter() {
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            for tri in self.meshes.get(m.mesh).map_or(&[][..], |d| &d.triangles) {
+                for p in tri.p {
+                    let w = t.point(p);
+                    lo = lo.min(w);
+                    hi = hi.max(w);
+                }
+            }
+            if lo.x <= hi.x {
+                out.push((lo, hi));
+            }
+        }
+        out
     }
 
     /// Spheres `pack` gives the GPU: sphere objects and sphere lights
@@ -227,20 +243,7 @@ impl Scene {
                 return true;
             }
         }
-        for (t, m) in self.world.query::<(&Transform, &MeshShape)>().iter() {
-            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            for tri in self.meshes.get(m.mesh).map_or(&[][..], |d| &d.triangles) {
-                for p in tri.p {
-                    let w = t.point(p);
-                    lo = lo.min(w);
-                    hi = hi.max(w);
-                }
-            }
-            if lo.x <= hi.x && reaches(lo, hi) {
-                return true;
-            }
-        }
-        false
+        self.mesh_bounds().into_iter().any(|(lo, hi)| reaches(lo, hi))
     }
 
     /// Triangles over all mesh instances (quads count two).
