@@ -547,7 +547,10 @@ impl Viewer {
             // What the panel showed at the end, for a test to check
             // against the times it saw.
             let fps = self.presents.fps(Instant::now()).unwrap_or(0.0);
-            println!("last frame presented: {presented} frames, {fps:.2} FPS shown, frame-time plot median {:.1} ms, last {:.1} ms", self.presents.median_ms(10), self.presents.last_ms().unwrap_or(0.0));
+            // The plot's mean over every interval since the first frame, which a
+            // busy machine's stalls move as much as they move the wall clock.
+            let intervals = usize::try_from(presented.saturating_sub(1)).unwrap_or(usize::MAX);
+            println!("last frame presented: {presented} frames, {fps:.2} FPS shown, frame-time plot mean {:.1} ms, last {:.1} ms", self.presents.mean_ms(intervals), self.presents.last_ms().unwrap_or(0.0));
         }
         let png = match (&self.options.screenshot, last) {
             (Some(p), true) => p.clone(),

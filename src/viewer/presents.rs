@@ -85,6 +85,12 @@ impl Presents {
         self.intervals.back().map(|&(_, ms)| ms)
     }
 
+    /// The mean of the last `n` intervals, milliseconds (0 with none).
+    pub fn mean_ms(&self, n: usize) -> f64 {
+        let v: Vec<f64> = self.intervals.iter().rev().take(n).map(|&(_, ms)| ms).collect();
+        if v.is_empty() { 0.0 } else { v.iter().sum::<f64>() / v.len() as f64 }
+    }
+
     /// The median of the last `n` intervals, milliseconds.
     pub fn median_ms(&self, n: usize) -> f64 {
         let v: Vec<f64> = self.intervals.iter().rev().take(n).map(|&(_, ms)| ms).collect();
@@ -160,6 +166,20 @@ mod tests {
         let plot = p.plot();
         assert_eq!(plot.len(), 99);
         assert_eq!((plot[0].x, plot[0].y), (1.0, 50.0));
+    }
+
+    #[test]
+    fn a_stall_moves_the_mean_but_not_the_median() {
+        let t0 = Instant::now();
+        let mut p = Presents::default();
+        // Nine 20 ms frames and one 200 ms stall.
+        for (k, ms) in [0, 20, 40, 60, 80, 280, 300, 320, 340, 360, 380].into_iter().enumerate() {
+            assert_eq!(p.count(), k as u64);
+            p.push(at(t0, ms));
+        }
+        assert_eq!(p.median_ms(10), 20.0);
+        assert!((p.mean_ms(10) - 38.0).abs() < 1e-9, "{}", p.mean_ms(10));
+        assert_eq!(Presents::default().mean_ms(5), 0.0);
     }
 
     #[test]
