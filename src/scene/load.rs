@@ -8,6 +8,8 @@ use hecs::{EntityBuilder, World};
 use ron::extensions::Extensions;
 
 use super::features::SceneFeatures;
+use super::gltf_file::GltfFile;
+use super::load_gltf::{placement, GltfLoaded};
 use super::gpu_types::MaterialGpu;
 use super::locate::{Locator, Step};
 use super::obj;
@@ -27,12 +29,24 @@ const DEFAULT_MATERIAL: MaterialGpu = MaterialGpu {
     roughness: 1.0,
 };
 
-/// Reads, parses and checks a scene file; OBJ paths are relative to its
-/// folder. An `.obj` file opens as a scene of its own (a framing camera and
-/// a default light: `obj_scene`).
+/// The file kinds `load` opens: a RON scene, or an OBJ or glTF file
+/// opened as a scene of its own.
+pub const SCENE_EXTENSIONS: [&str; 4] = ["ron", "obj", "gltf", "glb"];
+
+/// Whether `load` opens `path`, by its extension.
+pub fn opens(path: &Path) -> bool {
+    path.extension().is_some_and(|e| SCENE_EXTENSIONS.iter().any(|x| e.eq_ignore_ascii_case(x)))
+}
+
+/// Reads, parses and checks a scene file; OBJ and glTF paths are relative
+/// to its folder. An `.obj`, `.gltf` or `.glb` file opens as a scene of its
+/// own (`obj_scene`, `gltf_scene`).
 pub fn load(path: &Path) -> Result<Scene, UserError> {
-    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj")) {
-        return super::obj_scene::open_obj(path);
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("obj") => return super::obj_scene::open_obj(path),
+        Some("gltf" | "glb") => return super::gltf_scene::open_gltf(path),
+        _ => {}
     }
     let text = crate::error::read_user_text(path, "scene file")?;
     parse(&text, path)
@@ -41,6 +55,11 @@ pub fn load(path: &Path) -> Result<Scene, UserError> {
 /// Like `load`, from text; `path` names the file in messages and OBJ paths
 /// are resolved relative to its folder.
 pub fn parse(text: &str, path: &Path) -> Result<Scene, UserError> {
+    parse_with(text, path, Vec::new())
+}
+
+/// Like `parse`, with glTF files already read (resolved path, file).
+pub(super) fn parse_with(text: &str, path: &Path, preloaded: Vec<(PathBuf, GltfFile)>) -> Result<Scene, UserError> {
     // A UTF-8 byte order mark is not RON; editors may write one.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     // implicit_some: optional fields are written bare (`motion: Orbit(..)`).
@@ -49,22 +68,31 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene, UserError> {
         .from_str(text)
         .map_err(|e| ron_error(path, &e))?;
     let loc = Locator::new(path, text);
-    let mut scene = Builder::new(&loc).build(&desc)?;
+    let mut builder = Builder::new(&loc);
+    for (path, file) in preloaded {
+        builder.gltf_cache.push(GltfLoaded::new(path, file));
+    }
+    let mut scene = builder.build(&desc)?;
     // Start at t = 0, so a scene that is never animated still shows movers
     // where their motion puts them.
     scene.animate(0.0);
     Ok(scene)
 }
 
-struct Builder<'a, 'l> {
-    loc: &'a Locator<'l>,
+pub(super) struct Builder<'a, 'l> {
+    pub(super) loc: &'a Locator<'l>,
     names: Vec<&'a str>,
-    materials: Vec<MaterialGpu>,
-    meshes: Vec<MeshData>,
+    pub(super) materials: Vec<MaterialGpu>,
+    pub(super) meshes: Vec<MeshData>,
     /// OBJ meshes already loaded: (resolved path, material override, mesh index).
     obj_cache: Vec<(PathBuf, Option<u32>, usize)>,
+    /// glTF files already read, in the order first met.
+    pub(super) gltf_cache: Vec<GltfLoaded>,
+    /// Point lights that glTF files place (position, intensity, which
+    /// object placed them), spawned after the scene's own lights.
+    pub(super) gltf_lights: Vec<(DVec3, Vec3, usize)>,
     default_material: Option<u32>,
-    world: World,
+    pub(super) world: World,
 }
 
 impl<'a, 'l> Builder<'a, 'l> {
@@ -75,6 +103,8 @@ impl<'a, 'l> Builder<'a, 'l> {
             materials: Vec::new(),
             meshes: Vec::new(),
             obj_cache: Vec::new(),
+            gltf_cache: Vec::new(),
+            gltf_lights: Vec::new(),
             default_material: None,
             world: World::new(),
         }
@@ -104,6 +134,12 @@ impl<'a, 'l> Builder<'a, 'l> {
             let at = vec![Step::Field("objects"), Step::Item(i)];
             let ctx = Ctx::new(loc, at, format!("objects[{i}] ({})", o.kind()));
             validate::object(&ctx, o)?;
+            if let ObjectDesc::Gltf { path, translate, scale, rotate_deg } = o {
+                let placement = placement(*translate, *scale, *rotate_deg);
+                self.gltf_object(&ctx, i, path, placement, DVec3::from_array(desc.camera.position))?;
+                features.meshes = true;
+                continue;
+            }
             let mut e = EntityBuilder::new();
             e.add(ObjectId(i as u32));
             let mut translation = DVec3::ZERO;
@@ -142,8 +178,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     let mesh = self.obj_mesh(&ctx, path, material)?;
                     self.check_mesh_extent(&ctx, mesh, f64::from(*scale))?;
                     translation = DVec3::from_array(*translate);
-                    let [x, y, z] = rotate_deg.map(f32::to_radians);
-                    let rotation = Quat::from_euler(EulerRot::XYZ, x, y, z);
+                    let rotation = rotation(*rotate_deg);
                     e.add(Transform {
                         translation,
                         rotation,
@@ -152,6 +187,8 @@ impl<'a, 'l> Builder<'a, 'l> {
                     .add(MeshShape { mesh });
                     features.meshes = true;
                 }
+                // Spawned above, one entity per instance.
+                ObjectDesc::Gltf { .. } => {}
             }
             let camera = DVec3::from_array(desc.camera.position);
             match o {
@@ -165,6 +202,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     ctx.resolvable(translation, *radius, camera)?;
                 }
                 ObjectDesc::Mesh { .. } => ctx.near("translate", translation, camera)?,
+                ObjectDesc::Gltf { .. } => {}
             }
             if let Some(m) = o.motion() {
                 e.add(validate::motion(&ctx, m)?)
@@ -228,10 +266,21 @@ impl<'a, 'l> Builder<'a, 'l> {
             self.world.spawn(e.build());
         }
 
+        let gltf_lights = std::mem::take(&mut self.gltf_lights);
+        for (k, &(position, intensity, _)) in gltf_lights.iter().enumerate() {
+            let j = desc.lights.len() + k;
+            self.world.spawn((
+                ObjectId((desc.objects.len() + j) as u32),
+                LightIndex(j as u32),
+                Light::Point { intensity },
+                Transform::from_translation(position),
+            ));
+            features.point_lights = true;
+        }
         let (specular, emissive) = self.used_material_features();
         features.specular = specular;
         features.emissive = emissive;
-        features.lights = u32::try_from(desc.lights.len()).unwrap_or(u32::MAX);
+        features.lights = u32::try_from(desc.lights.len() + gltf_lights.len()).unwrap_or(u32::MAX);
         let c = &desc.camera;
         Ok(Scene {
             world: self.world,
@@ -246,12 +295,34 @@ impl<'a, 'l> Builder<'a, 'l> {
             path: loc.path.to_path_buf(),
             mesh_files: {
                 let mut files: Vec<PathBuf> = self.obj_cache.iter().map(|(p, _, _)| p.clone()).collect();
+                for g in &self.gltf_cache {
+                    files.push(g.path.clone());
+                    files.extend(g.file.files.iter().cloned());
+                }
                 files.dedup();
                 files
             },
             meshes: self.meshes,
             materials: self.materials,
         })
+    }
+
+    /// The path a scene names, resolved against the scene file's folder,
+    /// or an error saying why it is not a readable file.
+    pub(super) fn resolve(&self, ctx: &Ctx, rel: &str, what: &str, give: &str) -> Result<PathBuf, UserError> {
+        let dir = self.loc.path.parent().unwrap_or(Path::new(""));
+        let resolved = dir.join(rel);
+        match std::fs::metadata(&resolved) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                Err(ctx.err("path", format_args!("{what} file \"{rel}\" not found (looked for {})", resolved.display())))
+            }
+            Err(e) => Err(ctx.err("path", format_args!("{what} file \"{rel}\" cannot be opened (looked for {}): {e}", resolved.display()))),
+            Ok(m) if m.is_dir() => Err(ctx.err("path", format_args!("{what} file \"{rel}\" is a directory ({}); give {give}", resolved.display()))),
+            Ok(m) if !m.is_file() => {
+                Err(ctx.err("path", format_args!("{what} file \"{rel}\" is not a regular file ({}: a device, FIFO or socket); give {give}", resolved.display())))
+            }
+            Ok(_) => Ok(resolved),
+        }
     }
 
     /// Mesh `mesh`, scaled, must fit in `validate::MAX_RANGE`.
@@ -273,7 +344,7 @@ impl<'a, 'l> Builder<'a, 'l> {
         Ok(())
     }
 
-    fn push_material(&mut self, m: MaterialGpu) -> u32 {
+    pub(super) fn push_material(&mut self, m: MaterialGpu) -> u32 {
         self.materials.push(m);
         (self.materials.len() - 1) as u32
     }
@@ -328,29 +399,14 @@ impl<'a, 'l> Builder<'a, 'l> {
         material: Option<u32>,
     ) -> Result<usize, UserError> {
         let dir = self.loc.path.parent().unwrap_or(Path::new(""));
-        let resolved = dir.join(rel);
         let cached = self
             .obj_cache
             .iter()
-            .find(|(p, m, _)| *p == resolved && *m == material);
+            .find(|(p, m, _)| *p == dir.join(rel) && *m == material);
         if let Some(&(_, _, mesh)) = cached {
             return Ok(mesh);
         }
-        match std::fs::metadata(&resolved) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" not found (looked for {})", resolved.display())));
-            }
-            Err(e) => {
-                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" cannot be opened (looked for {}): {e}", resolved.display())));
-            }
-            Ok(m) if m.is_dir() => {
-                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" is a directory ({}); give an .obj file", resolved.display())));
-            }
-            Ok(m) if !m.is_file() => {
-                return Err(ctx.err("path", format_args!("mesh file \"{rel}\" is not a regular file ({}: a device, FIFO or socket); give an .obj file", resolved.display())));
-            }
-            Ok(_) => {}
-        }
+        let resolved = self.resolve(ctx, rel, "mesh", "an .obj file")?;
         let file = obj::read(&resolved, material.is_none()).map_err(|e| ctx.err("path", e))?;
         // An override replaces the MTL materials, which are then not added.
         let base = self.materials.len() as u32;
@@ -413,4 +469,10 @@ impl<'a, 'l> Builder<'a, 'l> {
         }
         flags
     }
+}
+
+/// A RON object's rotation: degrees about x, then y, then z.
+fn rotation(rotate_deg: [f32; 3]) -> Quat {
+    let [x, y, z] = rotate_deg.map(f32::to_radians);
+    Quat::from_euler(EulerRot::XYZ, x, y, z)
 }

@@ -15,7 +15,10 @@ pub mod buffers;
 pub mod features;
 pub mod flat_uniform;
 pub mod gpu_types;
+mod gltf_file;
+mod gltf_scene;
 mod load;
+mod load_gltf;
 mod locate;
 mod more_lights;
 mod obj;
@@ -32,7 +35,7 @@ mod tests;
 
 pub use features::{Feature, SceneFeatures};
 pub use gpu_types::*;
-pub use load::{load, parse};
+pub use load::{load, opens, parse, SCENE_EXTENSIONS};
 pub use world::{
     animate, BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MeshData, MeshShape, Motion,
     ObjectId, Scene, SphereShape, Transform,

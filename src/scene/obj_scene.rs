@@ -12,7 +12,7 @@ use crate::error::UserError;
 use crate::scene::{parse, Scene};
 
 /// The field of view of the framing camera, degrees.
-const VFOV_DEG: f64 = 40.0;
+pub(crate) const VFOV_DEG: f64 = 40.0;
 
 /// The scene text for `file` (the OBJ's name, beside the scene's "file")
 /// with this camera and, if given, a sphere light (centre, radius,

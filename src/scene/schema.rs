@@ -86,6 +86,17 @@ pub(crate) enum ObjectDesc {
         #[serde(default)]
         motion: Option<MotionDesc>,
     },
+    /// A glTF 2.0 file's default scene (meshes, materials, point lights),
+    /// placed as a whole: world = translate + rotate(scale x glTF world).
+    Gltf {
+        path: String,
+        #[serde(default)]
+        translate: P3,
+        #[serde(default = "one")]
+        scale: f32,
+        #[serde(default)]
+        rotate_deg: V3,
+    },
 }
 
 impl ObjectDesc {
@@ -94,12 +105,13 @@ impl ObjectDesc {
             ObjectDesc::Quad { .. } => "Quad",
             ObjectDesc::Sphere { .. } => "Sphere",
             ObjectDesc::Mesh { .. } => "Mesh",
+            ObjectDesc::Gltf { .. } => "Gltf",
         }
     }
 
     pub(crate) fn motion(&self) -> Option<&MotionDesc> {
         match self {
-            ObjectDesc::Quad { .. } => None,
+            ObjectDesc::Quad { .. } | ObjectDesc::Gltf { .. } => None,
             ObjectDesc::Sphere { motion, .. } | ObjectDesc::Mesh { motion, .. } => motion.as_ref(),
         }
     }

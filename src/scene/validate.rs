@@ -224,6 +224,12 @@ pub(crate) fn object(ctx: &Ctx, o: &ObjectDesc) -> Res<()> {
             scale,
             rotate_deg,
             ..
+        }
+        | ObjectDesc::Gltf {
+            path,
+            translate,
+            scale,
+            rotate_deg,
         } => {
             if path.trim().is_empty() {
                 return Err(ctx.err("path", "`path` is empty"));

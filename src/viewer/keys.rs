@@ -80,7 +80,7 @@ pub const BINDINGS: &[(&str, &str)] = &[
     ("F12", "screenshot (PNG of the window, EXR of the render)"),
     ("F1 or ?", "this help"),
     ("Esc", "quit"),
-    ("drop a .ron or .obj", "open that scene (an OBJ framed, lit by default)"),
+    ("drop a .ron, .obj, .gltf or .glb", "open that scene (a mesh framed, lit by default)"),
 ];
 
 /// Saved viewpoints, per scene file.

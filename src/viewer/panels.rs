@@ -267,7 +267,7 @@ fn scene(ui: &mut Ui, input: &PanelInput, state: &mut PanelState, actions: &mut 
             // Only while the list is open: it reads the folder.
             let folder = input.scene.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
             let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
-                .map(|d| d.filter_map(Result::ok).map(|e| e.path()).filter(|p| p.extension().is_some_and(|e| e == "ron")).collect())
+                .map(|d| d.filter_map(Result::ok).map(|e| e.path()).filter(|p| crate::scene::opens(p)).collect())
                 .unwrap_or_default();
             files.sort();
             for f in files {
@@ -284,7 +284,7 @@ fn scene(ui: &mut Ui, input: &PanelInput, state: &mut PanelState, actions: &mut 
                 actions.push(Action::OpenScene(PathBuf::from(state.open_path.trim())));
             }
         });
-        ui.add(egui::Label::new(RichText::new("or drop a .ron scene or an .obj on the window").weak()).wrap());
+        ui.add(egui::Label::new(RichText::new("or drop a .ron scene, an .obj or a .gltf/.glb on the window").weak()).wrap());
     });
 }
 

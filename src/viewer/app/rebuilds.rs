@@ -21,8 +21,8 @@ impl Viewer {
     /// fails to load leaves the running scene as it was, with the error in
     /// the overlay.
     pub(super) fn open_scene(&mut self, path: PathBuf) {
-        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ron") || e.eq_ignore_ascii_case("obj")) {
-            let hint = "the viewer opens a .ron scene file or an .obj mesh (docs/scenes.md)";
+        if !crate::scene::opens(&path) {
+            let hint = "the viewer opens a .ron scene file, an .obj mesh or a .gltf/.glb file (docs/scenes.md)";
             self.show_error(format!("{}: not a scene file: {hint}", path.display()));
             return;
         }

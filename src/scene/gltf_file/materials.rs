@@ -1,0 +1,69 @@
+//! glTF metallic-roughness materials as glint's thesis material, until the
+//! metallic-roughness BRDF lands (docs/scenes.md, "glTF"): albedo = base
+//! colour factor, specular share = metallic, roughness = roughness,
+//! emission = emissive factor x emissive strength. Textures are not read
+//! yet; the loader says so once.
+
+use super::super::gpu_types::MaterialGpu;
+
+/// The glTF default material (no `material` on a primitive): white,
+/// metallic 1, roughness 1, as the spec's defaults give.
+pub(crate) const DEFAULT: MaterialGpu = MaterialGpu { albedo: [1.0; 3], specular: 1.0, emission: [0.0; 3], roughness: 1.0 };
+
+/// Material `m` in glint's terms; values outside glTF's ranges are errors.
+pub(crate) fn convert(m: &gltf::Material) -> Result<MaterialGpu, String> {
+    let at = format!("materials[{}]", m.index().unwrap_or(0));
+    let pbr = m.pbr_metallic_roughness();
+    let unit = |field: &str, x: f32| -> Result<f32, String> {
+        if (0.0..=1.0).contains(&x) {
+            Ok(x)
+        } else {
+            Err(format!("{at}.{field}: {x} is outside 0..1"))
+        }
+    };
+    let base = pbr.base_color_factor();
+    let mut albedo = [0.0; 3];
+    for (k, a) in albedo.iter_mut().enumerate() {
+        *a = unit("pbrMetallicRoughness.baseColorFactor", base[k])?;
+    }
+    let metallic = unit("pbrMetallicRoughness.metallicFactor", pbr.metallic_factor())?;
+    let roughness = unit("pbrMetallicRoughness.roughnessFactor", pbr.roughness_factor())?;
+    let strength = m.emissive_strength().unwrap_or(1.0);
+    if !(strength.is_finite() && strength >= 0.0) {
+        return Err(format!("{at}.extensions.KHR_materials_emissive_strength.emissiveStrength: {strength} is not a finite value >= 0"));
+    }
+    let mut emission = [0.0; 3];
+    for (k, e) in emission.iter_mut().enumerate() {
+        *e = unit("emissiveFactor", m.emissive_factor()[k])? * strength;
+    }
+    Ok(MaterialGpu { albedo, specular: metallic, emission, roughness })
+}
+
+/// What the conversion leaves out for the materials of `doc`, one line each
+/// (empty when nothing is left out).
+pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
+    let mut textured = 0;
+    let (mut mask, mut blend) = (0, 0);
+    for m in doc.materials() {
+        let pbr = m.pbr_metallic_roughness();
+        let any = pbr.base_color_texture().is_some()
+            || pbr.metallic_roughness_texture().is_some()
+            || m.normal_texture().is_some()
+            || m.emissive_texture().is_some()
+            || m.occlusion_texture().is_some();
+        textured += usize::from(any);
+        match m.alpha_mode() {
+            gltf::material::AlphaMode::Mask => mask += 1,
+            gltf::material::AlphaMode::Blend => blend += 1,
+            gltf::material::AlphaMode::Opaque => {}
+        }
+    }
+    let mut out = Vec::new();
+    if textured > 0 {
+        out.push(format!("{textured} material(s) have textures, which glint does not read yet: they render with their factors alone"));
+    }
+    if mask + blend > 0 {
+        out.push(format!("{} material(s) use alphaMode MASK or BLEND, which glint renders opaque for now", mask + blend));
+    }
+    out
+}

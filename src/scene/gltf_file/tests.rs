@@ -1,0 +1,194 @@
+//! The glTF reader on files written here: a triangle in a data URI, then
+//! each way of breaking it.
+
+use base64::Engine as _;
+use gltf::json::Value;
+
+use super::*;
+
+/// Positions (f32 x 3 each) then u16 indices, as one buffer.
+fn buffer(positions: &[[f32; 3]], indices: &[u16]) -> Vec<u8> {
+    let mut b: Vec<u8> = positions.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+    b.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+    while !b.len().is_multiple_of(4) {
+        b.push(0);
+    }
+    b
+}
+
+const TRIANGLE: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+/// A one-triangle glTF: mesh 0 placed by node 0 under node 1, its buffer
+/// as `uri` (None: the GLB chunk).
+fn triangle_json(uri: Option<&str>, bytes: usize) -> Value {
+    let mut buffer = format!(r#"{{"byteLength": {bytes}}}"#);
+    if let Some(uri) = uri {
+        buffer = format!(r#"{{"byteLength": {bytes}, "uri": "{uri}"}}"#);
+    }
+    let text = format!(
+        r#"{{
+  "asset": {{"version": "2.0"}},
+  "scene": 0,
+  "scenes": [{{"nodes": [1]}}],
+  "nodes": [{{"mesh": 0, "scale": [2, 2, 2]}}, {{"children": [0], "translation": [1e9, 0, 0]}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}]}}],
+  "accessors": [
+    {{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+    {{"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}}
+  ],
+  "bufferViews": [{{"buffer": 0, "byteLength": 36}}, {{"buffer": 0, "byteOffset": 36, "byteLength": 6}}],
+  "buffers": [{buffer}]
+}}"#
+    );
+    gltf::json::deserialize::from_str(&text).expect("fixture JSON")
+}
+
+fn data_uri(bytes: &[u8]) -> String {
+    format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
+}
+
+/// A scratch folder of its own for each test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("glint-gltf-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    dir
+}
+
+fn write_json(dir: &Path, v: &Value) -> PathBuf {
+    let path = dir.join("t.gltf");
+    std::fs::write(&path, gltf::json::serialize::to_string_pretty(v).expect("serialise")).expect("write");
+    path
+}
+
+/// The error reading `v` (with the triangle's bytes in a data URI).
+fn error_of(name: &str, edit: impl FnOnce(&mut Value), positions: &[[f32; 3]], indices: &[u16]) -> String {
+    let bytes = buffer(positions, indices);
+    let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
+    edit(&mut v);
+    let path = write_json(&scratch(name), &v);
+    match read(&path) {
+        Ok(_) => panic!("{name}: the broken file was read"),
+        Err(e) => {
+            eprintln!("{name}: {e}");
+            assert!(e.contains("t.gltf"), "{name}: the message names the file: {e}");
+            e
+        }
+    }
+}
+
+#[test]
+fn a_triangle_in_a_data_uri_is_placed_by_its_nodes_in_f64() {
+    let bytes = buffer(&TRIANGLE, &[0, 1, 2]);
+    let path = write_json(&scratch("data-uri"), &triangle_json(Some(&data_uri(&bytes)), bytes.len()));
+    let f = read(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.instances.len(), 1);
+    assert_eq!(f.meshes[0].len(), 1);
+    let t = f.meshes[0][0];
+    assert_eq!(t.p, TRIANGLE.map(Vec3::from_array));
+    assert_eq!(t.n, [Vec3::Z; 3], "flat normals where the file has none");
+    assert_eq!(t.material, None, "the default material");
+    // Parent at x = 1e9 (beyond f32's integer precision), child scaled by 2.
+    let (lo, hi) = f.bounds().expect("bounds");
+    assert_eq!(lo, DVec3::new(1e9, 0.0, 0.0));
+    assert_eq!(hi, DVec3::new(1e9 + 2.0, 2.0, 0.0));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+}
+
+#[test]
+fn a_glb_and_an_external_buffer_read_the_same() {
+    let bytes = buffer(&TRIANGLE, &[0, 1, 2]);
+    let dir = scratch("glb");
+    // External, with a space in its percent-encoded name.
+    std::fs::write(dir.join("tri angle.bin"), &bytes).expect("write");
+    let external = read(&write_json(&dir, &triangle_json(Some("tri%20angle.bin"), bytes.len()))).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(external.files, vec![dir.join("tri angle.bin")]);
+    // GLB: header, JSON chunk (padded with spaces), BIN chunk.
+    let mut json = gltf::json::serialize::to_vec(&triangle_json(None, bytes.len())).expect("json");
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bytes.len();
+    let mut glb = Vec::new();
+    glb.extend(b"glTF");
+    glb.extend(2u32.to_le_bytes());
+    glb.extend((total as u32).to_le_bytes());
+    glb.extend((json.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(&json);
+    glb.extend((bytes.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(&bytes);
+    std::fs::write(dir.join("t.glb"), &glb).expect("write");
+    let binary = read(&dir.join("t.glb")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(binary.meshes, external.meshes);
+    assert_eq!(binary.instances, external.instances);
+    // A GLB cut short says so.
+    std::fs::write(dir.join("short.glb"), &glb[..30]).expect("write");
+    let e = read(&dir.join("short.glb")).expect_err("a short GLB was read");
+    assert!(e.contains("short.glb") && e.contains("GLB"), "{e}");
+}
+
+#[test]
+fn strips_normals_lights_cameras_and_materials_convert() {
+    let bytes = buffer(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]], &[]);
+    let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
+    let prim = &mut v["meshes"][0]["primitives"][0];
+    prim.as_object_mut().expect("object").remove("indices");
+    prim["mode"] = Value::from(5);
+    prim["material"] = Value::from(0);
+    v["accessors"].as_array_mut().expect("array").truncate(1);
+    v["accessors"][0]["count"] = Value::from(4);
+    v["accessors"][0]["max"] = gltf::json::deserialize::from_str("[1, 1, 0]").expect("json");
+    v["bufferViews"] = gltf::json::deserialize::from_str(r#"[{"buffer": 0, "byteLength": 48}]"#).expect("json");
+    v["materials"] = gltf::json::deserialize::from_str(
+        r#"[{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1, 1], "metallicFactor": 0.25, "roughnessFactor": 0.75},
+             "emissiveFactor": [1, 0.5, 0], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}}]"#,
+    )
+    .expect("json");
+    v["extensionsUsed"] = gltf::json::deserialize::from_str(r#"["KHR_lights_punctual", "KHR_materials_emissive_strength", "EXT_other"]"#).expect("json");
+    v["extensions"] = gltf::json::deserialize::from_str(r#"{"KHR_lights_punctual": {"lights": [{"type": "point", "color": [1, 0.5, 0.25], "intensity": 683}, {"type": "spot", "spot": {}}]}}"#).expect("json");
+    v["cameras"] = gltf::json::deserialize::from_str(r#"[{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}]"#).expect("json");
+    v["nodes"] = gltf::json::deserialize::from_str(
+        r#"[{"mesh": 0}, {"children": [0, 2, 3, 4]}, {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0, 3, 0]},
+            {"camera": 0, "translation": [0, 0, 5]}, {"extensions": {"KHR_lights_punctual": {"light": 1}}}]"#,
+    )
+    .expect("json");
+    let f = read(&write_json(&scratch("strip"), &v)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.meshes[0].len(), 2, "a strip of four vertices is two triangles");
+    assert!(f.meshes[0].iter().all(|t| t.n == [Vec3::Z; 3]), "both face +z: the strip's second triangle turns back");
+    assert_eq!(f.materials, vec![MaterialGpu { albedo: [0.5, 0.25, 1.0], specular: 0.25, emission: [4.0, 2.0, 0.0], roughness: 0.75 }]);
+    assert_eq!(f.lights, vec![PointLight { position: DVec3::new(0.0, 3.0, 0.0), intensity: Vec3::new(1.0, 0.5, 0.25) }], "683 cd is 1 W/sr");
+    let c = f.cameras[0];
+    assert_eq!((c.position, c.target), (DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, 4.0)), "a glTF camera looks down -z");
+    assert!((c.vfov_deg - 0.5f64.to_degrees()).abs() < 1e-6);
+    let warnings = f.warnings.join("\n");
+    assert!(warnings.contains("1 spot light"), "{warnings}");
+    assert!(warnings.contains("EXT_other") && !warnings.contains("KHR_lights_punctual"), "{warnings}");
+}
+
+#[test]
+fn each_broken_file_names_what_is_wrong_and_where() {
+    let t = &TRIANGLE;
+    let e = error_of("json", |v| v["asset"] = Value::from(3), t, &[0, 1, 2]);
+    assert!(e.contains("t.gltf:26:12: not glTF JSON: invalid type") && !e.contains(" at line"), "{e}");
+    let e = error_of("missing-buffer", |v| v["buffers"][0]["uri"] = Value::from("gone.bin"), t, &[0, 1, 2]);
+    assert!(e.contains("buffers[0].uri") && e.contains("gone.bin"), "{e}");
+    let e = error_of("vec2", |v| v["accessors"][0]["type"] = Value::from("VEC2"), t, &[0, 1, 2]);
+    assert!(e.contains("meshes[0].primitives[0].attributes.POSITION") && e.contains("Vec2"), "{e}");
+    let e = error_of("count", |v| v["accessors"][0]["count"] = Value::from(4), t, &[0, 1, 2]);
+    assert!(e.contains("attributes.POSITION") && e.contains("run past"), "{e}");
+    let e = error_of("index", |_| {}, t, &[0, 1, 7]);
+    assert!(e.contains("meshes[0].primitives[0].indices") && e.contains("index 2 is 7"), "{e}");
+    let e = error_of("points", |v| v["meshes"][0]["primitives"][0]["mode"] = Value::from(0), t, &[0, 1, 2]);
+    assert!(e.contains("primitives[0].mode") && e.contains("Points"), "{e}");
+    let e = error_of("nan", |_| {}, &[[0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2]);
+    assert!(e.contains("attributes.POSITION") && e.contains("vertex 1 is not finite"), "{e}");
+    let e = error_of("required", |v| v["extensionsRequired"] = gltf::json::deserialize::from_str(r#"["KHR_draco_mesh_compression"]"#).expect("json"), t, &[0, 1, 2]);
+    assert!(e.contains("extensionsRequired[0]") && e.contains("KHR_draco_mesh_compression"), "{e}");
+    let e = error_of("bad-ref", |v| v["nodes"][0]["mesh"] = Value::from(9), t, &[0, 1, 2]);
+    assert!(e.contains("nodes[0].mesh: refers to an item the file does not have"), "{e}");
+    let e = error_of("cycle", |v| v["nodes"][0]["children"] = gltf::json::deserialize::from_str("[1]").expect("json"), t, &[0, 1, 2]);
+    assert!(e.contains("cycle") || e.contains("cannot be a root"), "{e}");
+    let e = error_of("metallic", |v| v["materials"] = gltf::json::deserialize::from_str(r#"[{"pbrMetallicRoughness": {"metallicFactor": 2}}]"#).expect("json"), t, &[0, 1, 2]);
+    assert!(e.contains("materials[0].pbrMetallicRoughness.metallicFactor") && e.contains("outside 0..1"), "{e}");
+}

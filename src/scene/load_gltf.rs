@@ -1,0 +1,168 @@
+//! A `Gltf(..)` object in a scene: the file read once, its materials added
+//! once, and each mesh instance spawned as an entity. An instance whose
+//! world matrix is a rotation and a uniform scale shares its mesh (one BLAS
+//! for all such copies); any other (non-uniform scale, shear, mirroring)
+//! gets the matrix baked into a mesh of its own. Translations stay f64.
+
+use std::path::PathBuf;
+
+use glam::{DMat3, DMat4, DQuat, DVec3};
+
+use super::gltf_file::{self, GltfFile, GltfTriangle};
+use super::load::Builder;
+use super::validate::{Ctx, MAX_RANGE};
+use super::world::{LocalTriangle, MeshData, MeshShape, ObjectId, Transform};
+use crate::error::UserError;
+
+/// A glTF file read for this scene, and where its pieces went.
+pub(super) struct GltfLoaded {
+    pub path: PathBuf,
+    pub file: GltfFile,
+    /// The scene material id of the file's material 0 (None until added).
+    materials_base: Option<u32>,
+    /// The glTF default material's id in the scene, once used.
+    default_material: Option<u32>,
+    /// Per glTF mesh: its scene mesh for instances that share it.
+    shared: Vec<Option<usize>>,
+}
+
+impl GltfLoaded {
+    pub(super) fn new(path: PathBuf, file: GltfFile) -> Self {
+        let shared = vec![None; file.meshes.len()];
+        GltfLoaded { path, file, materials_base: None, default_material: None, shared }
+    }
+}
+
+/// A RON placement as a matrix: translate + rotate(scale x p).
+pub(super) fn placement(translate: [f64; 3], scale: f32, rotate_deg: [f32; 3]) -> DMat4 {
+    let [x, y, z] = rotate_deg.map(|d| f64::from(d).to_radians());
+    let q = DQuat::from_euler(glam::EulerRot::XYZ, x, y, z);
+    DMat4::from_scale_rotation_translation(DVec3::splat(f64::from(scale)), q, DVec3::from_array(translate))
+}
+
+/// The rotation and uniform scale of `m`, when it is one (no shear, no
+/// mirroring, the same scale on every axis to 1 part in 1e6).
+fn similarity(m: DMat3) -> Option<(DQuat, f64)> {
+    let det = m.determinant();
+    if det.is_nan() || det <= 0.0 {
+        return None;
+    }
+    let s = det.cbrt();
+    let r = m * (1.0 / s);
+    let off = (r.transpose() * r - DMat3::IDENTITY).to_cols_array().iter().fold(0.0f64, |a, &x| a.max(x.abs()));
+    (off < 1e-6).then(|| (DQuat::from_mat3(&r).normalize(), s))
+}
+
+impl Builder<'_, '_> {
+    /// Spawns the instances of the glTF file at `rel` as object `i`, placed
+    /// by `placement`, and queues its point lights.
+    pub(super) fn gltf_object(&mut self, ctx: &Ctx, i: usize, rel: &str, placement: DMat4, camera: DVec3) -> Result<(), UserError> {
+        let resolved = self.loc.path.parent().unwrap_or(std::path::Path::new("")).join(rel);
+        let g = match self.gltf_cache.iter().position(|g| g.path == resolved) {
+            Some(g) => g,
+            None => {
+                let resolved = self.resolve(ctx, rel, "glTF", "a .gltf or .glb file")?;
+                let file = gltf_file::read(&resolved).map_err(|e| ctx.err("path", e))?;
+                for w in &file.warnings {
+                    eprintln!("glint: {}: {w}", resolved.display());
+                }
+                self.gltf_cache.push(GltfLoaded::new(resolved, file));
+                self.gltf_cache.len() - 1
+            }
+        };
+        if self.gltf_cache[g].materials_base.is_none() {
+            let base = self.materials.len() as u32;
+            self.materials.extend_from_slice(&self.gltf_cache[g].file.materials);
+            self.gltf_cache[g].materials_base = Some(base);
+        }
+        let instances = self.gltf_cache[g].file.instances.clone();
+        for inst in instances {
+            let world = placement * inst.matrix;
+            let translation = world.w_axis.truncate();
+            ctx.near("translate", translation, camera)?;
+            let linear = DMat3::from_mat4(world);
+            let (mesh, transform) = match similarity(linear) {
+                Some((rotation, scale)) => {
+                    let mesh = match self.gltf_cache[g].shared[inst.mesh] {
+                        Some(m) => m,
+                        None => {
+                            let m = self.gltf_mesh(g, inst.mesh, DMat3::IDENTITY);
+                            self.gltf_cache[g].shared[inst.mesh] = Some(m);
+                            m
+                        }
+                    };
+                    (mesh, Transform { translation, rotation: rotation.as_quat(), scale: scale as f32 })
+                }
+                // A collapsed instance (a zero scale) shows nothing.
+                None if linear.determinant() == 0.0 => continue,
+                None => (self.gltf_mesh(g, inst.mesh, linear), Transform::from_translation(translation)),
+            };
+            let extent = self.meshes[mesh].triangles.iter().flat_map(|t| t.p).map(|p| f64::from(p.abs().max_element())).fold(0.0, f64::max) * f64::from(transform.scale);
+            if extent > MAX_RANGE {
+                return Err(ctx.err("scale", format_args!("a mesh of the glTF file reaches {extent:e} from its origin, beyond glint's range of {MAX_RANGE:e} (f32 on the GPU)")));
+            }
+            self.world.spawn((ObjectId(i as u32), transform, MeshShape { mesh }));
+        }
+        for l in &self.gltf_cache[g].file.lights {
+            let position = placement.transform_point3(l.position);
+            ctx.near("translate", position, camera)?;
+            self.gltf_lights.push((position, l.intensity, i));
+        }
+        Ok(())
+    }
+
+    /// A scene mesh of glTF mesh `mesh` of file `g` with `linear` applied
+    /// (positions by it, normals by its inverse transpose, and the winding
+    /// turned back where it mirrors).
+    fn gltf_mesh(&mut self, g: usize, mesh: usize, linear: DMat3) -> usize {
+        let normal_matrix = linear.inverse().transpose();
+        let mirrored = linear.determinant() < 0.0;
+        let mut triangles = Vec::with_capacity(self.gltf_cache[g].file.meshes[mesh].len());
+        for k in 0..self.gltf_cache[g].file.meshes[mesh].len() {
+            let t: GltfTriangle = self.gltf_cache[g].file.meshes[mesh][k];
+            let material = self.gltf_material(g, t.material);
+            let mut p = t.p.map(|p| (linear * p.as_dvec3()).as_vec3());
+            let mut n = t.n.map(|n| (normal_matrix * n.as_dvec3()).as_vec3().normalize_or(n));
+            if mirrored {
+                p.swap(1, 2);
+                n.swap(1, 2);
+            }
+            triangles.push(LocalTriangle { p, n, material });
+        }
+        self.meshes.push(MeshData { triangles });
+        self.meshes.len() - 1
+    }
+
+    /// The scene material id of glTF material `m` of file `g` (None: the
+    /// glTF default material, added the first time it is used).
+    fn gltf_material(&mut self, g: usize, m: Option<usize>) -> u32 {
+        match (m, self.gltf_cache[g].materials_base) {
+            (Some(m), Some(base)) => base + m as u32,
+            _ => match self.gltf_cache[g].default_material {
+                Some(id) => id,
+                None => {
+                    let id = self.push_material(gltf_file::DEFAULT_MATERIAL);
+                    self.gltf_cache[g].default_material = Some(id);
+                    id
+                }
+            },
+        }
+    }
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotations_with_uniform_scale_are_shared_and_the_rest_baked() {
+        let q = DQuat::from_rotation_y(0.7);
+        let m = DMat3::from_quat(q) * 2.5;
+        let (r, s) = similarity(m).expect("a similarity");
+        assert!((s - 2.5).abs() < 1e-12 && r.angle_between(q) < 1e-9);
+        assert!(similarity(DMat3::from_diagonal(DVec3::new(1.0, 2.0, 1.0))).is_none(), "non-uniform");
+        assert!(similarity(DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0))).is_none(), "mirrored");
+        assert!(similarity(DMat3::ZERO).is_none());
+    }
+}
