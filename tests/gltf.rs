@@ -87,3 +87,32 @@ fn a_gltf_file_opens_as_a_scene_and_broken_ones_exit_2() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("scene.ron:2") && stderr.contains("glTF file \"gone.glb\" not found"), "{stderr}");
 }
+
+#[test]
+fn camera_n_picks_a_gltf_camera() {
+    use gltf::json::Value;
+    let dir = scratch("gltf-cameras");
+    std::fs::copy(repo().join("scenes/meshes/knot.bin"), dir.join("knot.bin")).expect("copy");
+    let text = std::fs::read_to_string(repo().join("scenes/meshes/knot.gltf")).expect("read");
+    let mut v: Value = gltf::json::deserialize::from_str(&text).expect("knot.gltf is JSON");
+    // Camera 0 in front of the knot, camera 1 far off to the side looking away.
+    v["cameras"] = gltf::json::deserialize::from_str(r#"[{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1}}]"#).expect("json");
+    let nodes = v["nodes"].as_array_mut().expect("nodes");
+    nodes.push(gltf::json::deserialize::from_str(r#"{"camera": 0, "translation": [0, 0, 5]}"#).expect("json"));
+    nodes.push(gltf::json::deserialize::from_str(r#"{"camera": 0, "translation": [50, 0, 0], "rotation": [0, -0.7071068, 0, 0.7071068]}"#).expect("json"));
+    v["scenes"][0]["nodes"] = gltf::json::deserialize::from_str("[0, 2, 3]").expect("json");
+    let file = dir.join("cameras.gltf");
+    std::fs::write(&file, gltf::json::serialize::to_string(&v).expect("json")).expect("write");
+    let (f, out) = (file.to_str().expect("utf-8"), dir.join("c.exr"));
+    let mean = |camera: &str| -> f64 {
+        let (code, stderr) = glint(&["render", f, "--graph", "passes/direct.ron", "--size", "24x24", "--camera", camera, "--out", out.to_str().expect("utf-8")]);
+        assert_eq!(code, 0, "{stderr}");
+        mean_rgb(&glint::image_io::load(&out).expect("read the image"))
+    };
+    let (front, away) = (mean("0"), mean("1"));
+    assert!(front > 0.01, "camera 0 sees the lit knot: mean {front}");
+    assert_eq!(away, 0.0, "camera 1 looks away from it");
+    let (code, stderr) = glint(&["render", f, "--size", "24x24", "--camera", "2", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("--camera 2") && stderr.contains("2 perspective camera(s)"), "{stderr}");
+}

@@ -19,7 +19,7 @@ use crate::{image_io, scene};
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// The scene file (RON).
+    /// The scene file (RON), or an OBJ or glTF file opened as a scene.
     pub scene: PathBuf,
     /// Frame graph (default: from passes/machines.ron for this adapter).
     #[arg(long)]
@@ -52,6 +52,10 @@ pub struct RenderArgs {
     /// (--time + --dt * frame).
     #[arg(long)]
     pub camera_path: Option<String>,
+    /// View from the scene's glTF camera N (0: the first; a glTF file
+    /// opened directly starts from camera 0).
+    #[arg(long)]
+    pub camera: Option<usize>,
     /// Per-pass times on CPU adapters (lavapipe), whose timestamps do not
     /// bracket the work: each pass is then submitted alone and waited for,
     /// which costs frame time. GPUs always report per-pass timestamps.
@@ -119,7 +123,10 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
         return Err(UserError::new("--frames 0 renders nothing; give at least 1"));
     }
     check_outputs(&args.out)?;
-    let scene = scene::load(&args.scene)?;
+    let mut scene = scene::load(&args.scene)?;
+    if let Some(n) = args.camera {
+        scene.use_camera(n)?;
+    }
     warn_if_empty(&scene);
     let camera_path = args.camera_path.as_deref().map(CameraPath::parse).transpose()?;
     if let Some(path) = &camera_path {

@@ -11,8 +11,11 @@ use crate::viewer::{self, ViewOptions};
 
 #[derive(Args, Debug)]
 pub struct ViewArgs {
-    /// The scene file (RON).
+    /// The scene file (RON), or an OBJ or glTF file opened as a scene.
     pub scene: PathBuf,
+    /// View from the scene's glTF camera N (0: the first).
+    #[arg(long)]
+    pub camera: Option<usize>,
     /// Frame graph (default: from passes/machines.ron for this adapter).
     #[arg(long)]
     pub graph: Option<PathBuf>,
@@ -50,6 +53,7 @@ pub fn run(args: ViewArgs) -> Result<(), UserError> {
     }
     viewer::run(ViewOptions {
         scene: args.scene,
+        camera: args.camera,
         graph: args.graph,
         size: args.size,
         seed: args.seed,

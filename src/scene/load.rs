@@ -91,6 +91,8 @@ pub(super) struct Builder<'a, 'l> {
     /// Point lights that glTF files place (position, intensity, which
     /// object placed them), spawned after the scene's own lights.
     pub(super) gltf_lights: Vec<(DVec3, Vec3, usize)>,
+    /// The glTF files' perspective cameras, placed.
+    pub(super) gltf_cameras: Vec<Camera>,
     default_material: Option<u32>,
     pub(super) world: World,
 }
@@ -105,6 +107,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             obj_cache: Vec::new(),
             gltf_cache: Vec::new(),
             gltf_lights: Vec::new(),
+            gltf_cameras: Vec::new(),
             default_material: None,
             world: World::new(),
         }
@@ -293,6 +296,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             background,
             features,
             path: loc.path.to_path_buf(),
+            cameras: self.gltf_cameras,
             mesh_files: {
                 let mut files: Vec<PathBuf> = self.obj_cache.iter().map(|(p, _, _)| p.clone()).collect();
                 for g in &self.gltf_cache {

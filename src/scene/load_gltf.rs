@@ -11,7 +11,7 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 use super::gltf_file::{self, GltfFile, GltfTriangle};
 use super::load::Builder;
 use super::validate::{Ctx, MAX_RANGE};
-use super::world::{LocalTriangle, MeshData, MeshShape, ObjectId, Transform};
+use super::world::{Camera, LocalTriangle, MeshData, MeshShape, ObjectId, Transform};
 use crate::error::UserError;
 
 /// A glTF file read for this scene, and where its pieces went.
@@ -102,6 +102,16 @@ impl Builder<'_, '_> {
                 return Err(ctx.err("scale", format_args!("a mesh of the glTF file reaches {extent:e} from its origin, beyond glint's range of {MAX_RANGE:e} (f32 on the GPU)")));
             }
             self.world.spawn((ObjectId(i as u32), transform, MeshShape { mesh }));
+        }
+        for c in &self.gltf_cache[g].file.cameras {
+            let up = placement.transform_vector3(c.up);
+            // A scaled placement leaves the field of view as it is.
+            self.gltf_cameras.push(Camera {
+                position: placement.transform_point3(c.position),
+                target: placement.transform_point3(c.target),
+                up: up.as_vec3(),
+                vfov_deg: c.vfov_deg as f32,
+            });
         }
         for l in &self.gltf_cache[g].file.lights {
             let position = placement.transform_point3(l.position);

@@ -37,7 +37,10 @@ pub struct Scene {
     pub features: SceneFeatures,
     /// The scene file (used in messages and to resolve mesh paths).
     pub path: PathBuf,
-    /// The OBJ files the scene loaded (hot reload watches them).
+    /// The perspective cameras of the scene's glTF files, placed (what
+    /// `--camera N` picks from; `use_camera`).
+    pub cameras: Vec<Camera>,
+    /// The OBJ and glTF files the scene loaded (hot reload watches them).
     pub mesh_files: Vec<PathBuf>,
     /// Local-space triangles, indexed by `MeshShape::mesh`.
     pub(super) meshes: Vec<MeshData>,
@@ -55,6 +58,21 @@ impl Scene {
     /// The local-space mesh store (for building one BLAS per mesh).
     pub fn meshes(&self) -> &[MeshData] {
         &self.meshes
+    }
+
+    /// Views from `cameras[n]` (the scene's glTF cameras, 0 the first),
+    /// or says how many there are.
+    pub fn use_camera(&mut self, n: usize) -> Result<(), crate::error::UserError> {
+        match self.cameras.get(n) {
+            Some(c) => {
+                self.camera = *c;
+                Ok(())
+            }
+            None => Err(crate::error::UserError::in_file(
+                &self.path,
+                format!("--camera {n}: the scene's glTF files have {} perspective camera(s){}", self.cameras.len(), if self.cameras.is_empty() { "" } else { " (numbered from 0)" }),
+            )),
+        }
     }
 
     /// Every material of the scene, indexed by material id.

@@ -30,8 +30,10 @@ use app::Viewer;
 /// What `glint view` opens and how (the `glint view` arguments).
 #[derive(Debug, Clone)]
 pub struct ViewOptions {
-    /// The scene file (RON).
+    /// The scene file (RON, OBJ or glTF).
     pub scene: PathBuf,
+    /// The scene's glTF camera to start from (`--camera`).
+    pub camera: Option<usize>,
     /// Frame graph to run (None: the machine profile's, from
     /// passes/machines.ron for this adapter).
     pub graph: Option<PathBuf>,
@@ -112,7 +114,10 @@ impl ApplicationHandler for App {
 /// the screenshot is written). Start-up errors (scene, graph, shaders, no
 /// display) are returned before or instead of a window.
 pub fn run(options: ViewOptions) -> Result<(), UserError> {
-    let scene = crate::scene::load(&options.scene)?;
+    let mut scene = crate::scene::load(&options.scene)?;
+    if let Some(n) = options.camera {
+        scene.use_camera(n)?;
+    }
     if options.frames == Some(0) {
         return Err(UserError::new("--frames 0 shows nothing; give at least 1"));
     }
