@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{DVec3, EulerRot, Quat, Vec3};
+use glam::{DVec3, EulerRot, Quat, Vec2, Vec3};
 use hecs::{EntityBuilder, World};
 use ron::extensions::Extensions;
 
@@ -16,8 +16,8 @@ use super::obj;
 use super::schema::{LightDesc, ObjectDesc, SceneDesc};
 use super::validate::{self, Ctx};
 use super::world::{
-    BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MeshData, MeshShape,
-    Motion, ObjectId, Scene, SphereShape, Transform,
+    BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MaterialTextures, MeshData, MeshShape,
+    Motion, ObjectId, Scene, SphereShape, TextureImage, Transform,
 };
 use crate::error::{ron_error, UserError};
 
@@ -91,6 +91,9 @@ pub(super) struct Builder<'a, 'l> {
     /// Point lights that glTF files place (position, intensity, which
     /// object placed them), spawned after the scene's own lights.
     pub(super) gltf_lights: Vec<(DVec3, Vec3, usize)>,
+    /// Per material id, its textures (filled up to the last textured one).
+    pub(super) material_textures: Vec<MaterialTextures>,
+    pub(super) textures: Vec<TextureImage>,
     /// The glTF files' perspective cameras, placed.
     pub(super) gltf_cameras: Vec<Camera>,
     default_material: Option<u32>,
@@ -108,6 +111,8 @@ impl<'a, 'l> Builder<'a, 'l> {
             gltf_cache: Vec::new(),
             gltf_lights: Vec::new(),
             gltf_cameras: Vec::new(),
+            material_textures: Vec::new(),
+            textures: Vec::new(),
             default_material: None,
             world: World::new(),
         }
@@ -308,6 +313,8 @@ impl<'a, 'l> Builder<'a, 'l> {
             },
             meshes: self.meshes,
             materials: self.materials,
+            material_textures: self.material_textures,
+            textures: self.textures,
         })
     }
 
@@ -386,6 +393,7 @@ impl<'a, 'l> Builder<'a, 'l> {
         let tri = |a: usize, b: usize, c: usize| LocalTriangle {
             p: [local[a], local[b], local[c]],
             n: [n; 3],
+            uv: [Vec2::ZERO; 3],
             material,
         };
         self.meshes.push(MeshData {
@@ -427,6 +435,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             triangles.push(LocalTriangle {
                 p: t.p,
                 n: t.n,
+                uv: [Vec2::ZERO; 3],
                 material: id,
             });
         }

@@ -11,7 +11,7 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 use super::gltf_file::{self, GltfFile, GltfTriangle};
 use super::load::Builder;
 use super::validate::{Ctx, MAX_RANGE};
-use super::world::{Camera, LocalTriangle, MeshData, MeshShape, ObjectId, Transform};
+use super::world::{Camera, LocalTriangle, MaterialTextures, MeshData, MeshShape, ObjectId, TextureImage, TextureSlot, Transform};
 use crate::error::UserError;
 
 /// A glTF file read for this scene, and where its pieces went.
@@ -74,6 +74,7 @@ impl Builder<'_, '_> {
             let base = self.materials.len() as u32;
             self.materials.extend_from_slice(&self.gltf_cache[g].file.materials);
             self.gltf_cache[g].materials_base = Some(base);
+            self.gltf_textures(g, base as usize);
         }
         let instances = self.gltf_cache[g].file.instances.clone();
         for inst in instances {
@@ -121,6 +122,41 @@ impl Builder<'_, '_> {
         Ok(())
     }
 
+    /// The textures of file `g`'s materials (the first at scene material
+    /// `base`): each image used moves into the scene's textures once.
+    fn gltf_textures(&mut self, g: usize, base: usize) {
+        let mut scene_index: Vec<Option<usize>> = vec![None; self.gltf_cache[g].file.images.len()];
+        for k in 0..self.gltf_cache[g].file.material_textures.len() {
+            let mt = self.gltf_cache[g].file.material_textures[k];
+            let mut slot = |r: Option<gltf_file::TextureRef>, builder: &mut Self| -> Option<TextureSlot> {
+                let r = r?;
+                let texture = match scene_index[r.image] {
+                    Some(t) => t,
+                    None => {
+                        let image = builder.gltf_cache[g].file.images[r.image].take()?;
+                        builder.textures.push(TextureImage { width: image.width, height: image.height, rgba: image.rgba });
+                        scene_index[r.image] = Some(builder.textures.len() - 1);
+                        builder.textures.len() - 1
+                    }
+                };
+                let wrap = r.wrap.map(|w| match w {
+                    gltf_file::Wrap::Repeat => 0,
+                    gltf_file::Wrap::Clamp => 1,
+                    gltf_file::Wrap::Mirror => 2,
+                });
+                Some(TextureSlot { texture, wrap, transform: r.transform })
+            };
+            let textures = MaterialTextures { base_color: slot(mt.base_color, self), emissive: slot(mt.emissive, self) };
+            if textures != MaterialTextures::default() {
+                let id = base + k;
+                if self.material_textures.len() <= id {
+                    self.material_textures.resize(id + 1, MaterialTextures::default());
+                }
+                self.material_textures[id] = textures;
+            }
+        }
+    }
+
     /// A scene mesh of glTF mesh `mesh` of file `g` with `linear` applied
     /// (positions by it, normals by its inverse transpose, and the winding
     /// turned back where it mirrors).
@@ -137,7 +173,11 @@ impl Builder<'_, '_> {
                 p.swap(1, 2);
                 n.swap(1, 2);
             }
-            triangles.push(LocalTriangle { p, n, material });
+            let mut uv = t.uv;
+            if mirrored {
+                uv.swap(1, 2);
+            }
+            triangles.push(LocalTriangle { p, n, uv, material });
         }
         self.meshes.push(MeshData { triangles });
         self.meshes.len() - 1

@@ -27,6 +27,7 @@ pub mod origins;
 mod pack;
 mod schema;
 pub mod specialise;
+pub mod texture_classes;
 mod validate;
 mod world;
 
@@ -37,6 +38,6 @@ pub use features::{Feature, SceneFeatures};
 pub use gpu_types::*;
 pub use load::{load, opens, parse, SCENE_EXTENSIONS};
 pub use world::{
-    animate, BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MeshData, MeshShape, Motion,
-    ObjectId, Scene, SphereShape, Transform,
+    animate, BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MaterialTextures, MeshData, MeshShape,
+    Motion, ObjectId, Scene, SphereShape, TextureImage, TextureSlot, Transform,
 };

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use glam::{DVec3, Quat, Vec3};
+use glam::{DVec3, Quat, Vec2, Vec3};
 
 use super::features::SceneFeatures;
 use super::gpu_types::MaterialGpu;
@@ -46,6 +46,43 @@ pub struct Scene {
     pub(super) meshes: Vec<MeshData>,
     /// Every material, indexed by `MaterialId` and the triangles' `material`.
     pub(super) materials: Vec<MaterialGpu>,
+    /// The textures each material samples, by material id (empty when no
+    /// material has any).
+    pub(super) material_textures: Vec<MaterialTextures>,
+    /// The images those textures read (sRGB RGBA8).
+    pub(super) textures: Vec<TextureImage>,
+}
+
+/// Which images a material's textures read, and how.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MaterialTextures {
+    /// Base colour (multiplies the albedo), sRGB.
+    pub base_color: Option<TextureSlot>,
+    /// Emission (multiplies the emission), sRGB.
+    pub emissive: Option<TextureSlot>,
+}
+
+/// One texture of a material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TextureSlot {
+    /// Index into the scene's textures.
+    pub texture: usize,
+    /// (s, t) wrap modes: 0 repeat, 1 clamp to edge, 2 mirrored repeat.
+    pub wrap: [u32; 2],
+    /// uv' = (row 0 . (u, v, 1), row 1 . (u, v, 1)).
+    pub transform: [[f32; 3]; 2],
+}
+
+/// An image a texture reads: `width x height` sRGB RGBA8 texels, rows top
+/// first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureImage {
+    /// Texels across.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// `width x height x 4` bytes.
+    pub rgba: Vec<u8>,
 }
 
 impl Scene {
@@ -75,6 +112,16 @@ impl Scene {
         }
     }
 
+    /// The textures of each material, by material id (empty: none has any).
+    pub fn material_textures(&self) -> &[MaterialTextures] {
+        &self.material_textures
+    }
+
+    /// The images the materials' textures read.
+    pub fn textures(&self) -> &[TextureImage] {
+        &self.textures
+    }
+
     /// Every material of the scene, indexed by material id.
     pub fn materials(&self) -> &[MaterialGpu] {
         &self.materials
@@ -88,13 +135,16 @@ pub struct MeshData {
     pub triangles: Vec<LocalTriangle>,
 }
 
-/// Positions, unit shading normals and material id of one triangle.
+/// Positions, unit shading normals, texture coordinates and material id
+/// of one triangle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LocalTriangle {
     /// Vertex positions.
     pub p: [Vec3; 3],
     /// Unit shading normals at the vertices.
     pub n: [Vec3; 3],
+    /// Texture coordinates at the vertices (zero where the mesh has none).
+    pub uv: [Vec2; 3],
     /// Index into the scene's materials.
     pub material: u32,
 }

@@ -2,7 +2,7 @@
 //! count, range in its buffer, finite values) before it is read, strips and
 //! fans unrolled, flat normals where a primitive has none.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
@@ -12,6 +12,8 @@ use gltf::mesh::Mode;
 pub(crate) struct GltfTriangle {
     pub p: [Vec3; 3],
     pub n: [Vec3; 3],
+    /// TEXCOORD_0 at the vertices (zero where the primitive has none).
+    pub uv: [Vec2; 3],
     pub material: Option<usize>,
 }
 
@@ -47,6 +49,24 @@ pub(crate) fn triangles(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> Result<Vec<Gl
                 Some(n)
             }
         };
+        let uvs = match prim.get(&gltf::Semantic::TexCoords(0)) {
+            None => None,
+            Some(acc) => {
+                let t_at = format!("{at}.attributes.TEXCOORD_0");
+                check(&acc, &[Dimensions::Vec2], &[DataType::F32, DataType::U8, DataType::U16], buffers, &t_at)?;
+                if acc.data_type() != DataType::F32 && !acc.normalized() {
+                    return Err(format!("{t_at}: integer texture coordinates must be normalized (glTF)"));
+                }
+                let t: Vec<Vec2> = reader.read_tex_coords(0).ok_or_else(|| unreadable(&t_at))?.into_f32().map(Vec2::from_array).collect();
+                if t.len() != p.len() {
+                    return Err(format!("{t_at}: {} texture coordinates for {} positions", t.len(), p.len()));
+                }
+                if let Some(k) = t.iter().position(|v| !v.is_finite()) {
+                    return Err(format!("{t_at}: coordinate {k} is not finite ({:?})", t[k].to_array()));
+                }
+                Some(t)
+            }
+        };
         let indices: Vec<u32> = match prim.indices() {
             None => (0..p.len() as u32).collect(),
             Some(acc) => {
@@ -69,7 +89,8 @@ pub(crate) fn triangles(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> Result<Vec<Gl
                 Some(n) => [n[a], n[b], n[c]].map(|v| v.try_normalize().unwrap_or(flat)),
                 None => [flat; 3],
             };
-            out.push(GltfTriangle { p: pt, n, material });
+            let uv = uvs.as_ref().map_or([Vec2::ZERO; 3], |t| [t[a], t[b], t[c]]);
+            out.push(GltfTriangle { p: pt, n, uv, material });
         }
     }
     Ok(out)

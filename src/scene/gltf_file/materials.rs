@@ -46,11 +46,7 @@ pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
     let (mut mask, mut blend) = (0, 0);
     for m in doc.materials() {
         let pbr = m.pbr_metallic_roughness();
-        let any = pbr.base_color_texture().is_some()
-            || pbr.metallic_roughness_texture().is_some()
-            || m.normal_texture().is_some()
-            || m.emissive_texture().is_some()
-            || m.occlusion_texture().is_some();
+        let any = pbr.metallic_roughness_texture().is_some() || m.normal_texture().is_some() || m.occlusion_texture().is_some();
         textured += usize::from(any);
         match m.alpha_mode() {
             gltf::material::AlphaMode::Mask => mask += 1,
@@ -60,7 +56,7 @@ pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
     }
     let mut out = Vec::new();
     if textured > 0 {
-        out.push(format!("{textured} material(s) have textures, which glint does not read yet: they render with their factors alone"));
+        out.push(format!("{textured} material(s) have metallic-roughness, normal or occlusion textures, which glint does not read yet (it reads base colour and emissive textures)"));
     }
     if mask + blend > 0 {
         out.push(format!("{} material(s) use alphaMode MASK or BLEND, which glint renders opaque for now", mask + blend));

@@ -9,6 +9,7 @@ mod buffers;
 mod geometry;
 mod materials;
 mod nodes;
+mod textures;
 
 use std::path::{Path, PathBuf};
 
@@ -16,6 +17,7 @@ use glam::{DMat4, DVec3, Vec3};
 
 pub(crate) use geometry::GltfTriangle;
 pub(crate) use materials::DEFAULT as DEFAULT_MATERIAL;
+pub(crate) use textures::{Image, MaterialTextures, TextureRef, Wrap};
 
 use super::gpu_types::MaterialGpu;
 
@@ -35,6 +37,10 @@ pub(crate) struct GltfFile {
     pub meshes: Vec<Vec<GltfTriangle>>,
     /// By glTF material index.
     pub materials: Vec<MaterialGpu>,
+    /// The textures each material samples, by glTF material index.
+    pub material_textures: Vec<MaterialTextures>,
+    /// By glTF image index: decoded where a material's texture uses it.
+    pub images: Vec<Option<Image>>,
     /// Each placement of a mesh, in node order.
     pub instances: Vec<Instance>,
     pub lights: Vec<PointLight>,
@@ -149,6 +155,15 @@ fn read_root(root: gltf::json::Root, blob: Option<Vec<u8>>, dir: &Path) -> Resul
         }
     }
     let materials = doc.materials().map(|m| materials::convert(&m)).collect::<Result<Vec<_>, _>>()?;
+    let material_textures =
+        doc.materials().map(|m| textures::material_textures(&m, &format!("materials[{}]", m.index().unwrap_or(0)))).collect::<Result<Vec<_>, _>>()?;
+    let mut images = vec![None; doc.images().len()];
+    let mut files = buffers.files;
+    for t in material_textures.iter().flat_map(|m| [m.base_color, m.emissive]).flatten() {
+        if images[t.image].is_none() {
+            images[t.image] = Some(textures::decode(&doc, t.image, &buffers.data, dir, &mut files)?);
+        }
+    }
     let mut warnings = placed.warnings;
     if !ignored.is_empty() {
         warnings.push(format!("extensions glint ignores: {}", ignored.join(", ")));
@@ -157,7 +172,7 @@ fn read_root(root: gltf::json::Root, blob: Option<Vec<u8>>, dir: &Path) -> Resul
     if doc.animations().len() > 0 {
         warnings.push(format!("{} animation(s) are not played: glint shows the file's rest pose", doc.animations().len()));
     }
-    Ok(GltfFile { meshes, materials, instances: placed.instances, lights: placed.lights, cameras: placed.cameras, files: buffers.files, warnings })
+    Ok(GltfFile { meshes, materials, material_textures, images, instances: placed.instances, lights: placed.lights, cameras: placed.cameras, files, warnings })
 }
 
 #[cfg(test)]

@@ -192,3 +192,49 @@ fn each_broken_file_names_what_is_wrong_and_where() {
     let e = error_of("metallic", |v| v["materials"] = gltf::json::deserialize::from_str(r#"[{"pbrMetallicRoughness": {"metallicFactor": 2}}]"#).expect("json"), t, &[0, 1, 2]);
     assert!(e.contains("materials[0].pbrMetallicRoughness.metallicFactor") && e.contains("outside 0..1"), "{e}");
 }
+
+/// A 2x1 PNG: red, then green.
+fn png() -> Vec<u8> {
+    let img = image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 255, 0, 255]).expect("image");
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).expect("encode");
+    out.into_inner()
+}
+
+#[test]
+fn textures_uvs_and_transforms_are_read() {
+    let mut bytes = buffer(&TRIANGLE, &[0, 1, 2]);
+    let uv_offset = bytes.len();
+    bytes.extend([0.0f32, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|x| x.to_le_bytes()));
+    let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
+    v["bufferViews"].as_array_mut().expect("views").push(gltf::json::deserialize::from_str(&format!(r#"{{"buffer": 0, "byteOffset": {uv_offset}, "byteLength": 24}}"#)).expect("json"));
+    v["accessors"].as_array_mut().expect("accessors").push(gltf::json::deserialize::from_str(r#"{"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}"#).expect("json"));
+    v["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = Value::from(2);
+    v["meshes"][0]["primitives"][0]["material"] = Value::from(0);
+    v["images"] = gltf::json::deserialize::from_str(&format!(r#"[{{"uri": "data:image/png;base64,{}"}}]"#, base64::engine::general_purpose::STANDARD.encode(png()))).expect("json");
+    v["samplers"] = gltf::json::deserialize::from_str(r#"[{"wrapS": 33071, "wrapT": 33648}]"#).expect("json");
+    v["textures"] = gltf::json::deserialize::from_str(r#"[{"source": 0, "sampler": 0}]"#).expect("json");
+    v["materials"] = gltf::json::deserialize::from_str(
+        r#"[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0, 1], "rotation": 1.5707964, "scale": [0.5, 0.5]}}}},
+             "emissiveTexture": {"index": 0}}]"#,
+    )
+    .expect("json");
+    v["extensionsUsed"] = gltf::json::deserialize::from_str(r#"["KHR_texture_transform"]"#).expect("json");
+    let f = read(&write_json(&scratch("textures"), &v)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.meshes[0][0].uv, [glam::Vec2::new(0.0, 0.0), glam::Vec2::new(1.0, 0.0), glam::Vec2::new(0.0, 1.0)]);
+    let image = f.images[0].as_ref().expect("the image is decoded");
+    assert_eq!((image.width, image.height, &image.rgba[..8]), (2, 1, &[255, 0, 0, 255, 0, 255, 0, 255][..]));
+    let base = f.material_textures[0].base_color.expect("a base colour texture");
+    assert_eq!(base.wrap, [Wrap::Clamp, Wrap::Mirror]);
+    // The extension's example: a quarter turn, half size, offset (0, 1)
+    // takes (1, 0) to (0, 1.5).
+    let m = base.transform;
+    let (u, w) = (m[0][0] + m[0][2], m[1][0] + m[1][2]);
+    assert!(u.abs() < 1e-6 && (w - 1.5).abs() < 1e-6, "({u}, {w})");
+    let emissive = f.material_textures[0].emissive.expect("an emissive texture");
+    assert_eq!((emissive.wrap, emissive.transform), ([Wrap::Clamp, Wrap::Mirror], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]), "the same texture, without a transform");
+    // An image that is not one says so.
+    v["images"] = gltf::json::deserialize::from_str(r#"[{"uri": "data:image/png;base64,AAAA"}]"#).expect("json");
+    let e = read(&write_json(&scratch("bad-image"), &v)).expect_err("a broken image was read");
+    assert!(e.contains("images[0]") && e.contains("cannot decode"), "{e}");
+}

@@ -1,0 +1,107 @@
+//! A glTF material's textures: which image each slot samples, with its
+//! sampler's wrap modes and its `KHR_texture_transform`, and the images
+//! themselves decoded to RGBA8 (PNG and JPEG, from a file beside the glTF,
+//! a data URI or a buffer view).
+
+use std::path::{Path, PathBuf};
+
+use super::buffers;
+
+/// How a texture coordinate outside 0..1 reads the image (glTF sampler).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Wrap {
+    Repeat,
+    Clamp,
+    Mirror,
+}
+
+/// One texture slot of a material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TextureRef {
+    /// The glTF image index.
+    pub image: usize,
+    /// (s, t) wrap modes.
+    pub wrap: [Wrap; 2],
+    /// uv' = (row 0 . (u, v, 1), row 1 . (u, v, 1)): KHR_texture_transform
+    /// (the identity without it).
+    pub transform: [[f32; 3]; 2],
+}
+
+/// The texture slots glint reads: base colour and emission (sRGB).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct MaterialTextures {
+    pub base_color: Option<TextureRef>,
+    pub emissive: Option<TextureRef>,
+}
+
+/// A decoded image: `width x height` RGBA8 texels, rows top first.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+/// The slots of material `m` (`at`: its glTF path).
+pub(crate) fn material_textures(m: &gltf::Material, at: &str) -> Result<MaterialTextures, String> {
+    let pbr = m.pbr_metallic_roughness();
+    Ok(MaterialTextures {
+        base_color: pbr.base_color_texture().map(|t| texture_ref(&t, &format!("{at}.pbrMetallicRoughness.baseColorTexture"))).transpose()?,
+        emissive: m.emissive_texture().map(|t| texture_ref(&t, &format!("{at}.emissiveTexture"))).transpose()?,
+    })
+}
+
+fn texture_ref(info: &gltf::texture::Info, at: &str) -> Result<TextureRef, String> {
+    let texture = info.texture();
+    let mut tex_coord = info.tex_coord();
+    let mut transform = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    if let Some(t) = info.texture_transform() {
+        let ([ox, oy], r, [sx, sy]) = (t.offset(), t.rotation(), t.scale());
+        if ![ox, oy, r, sx, sy].iter().all(|x| x.is_finite()) {
+            return Err(format!("{at}.extensions.KHR_texture_transform: a value is not finite"));
+        }
+        // translation x rotation x scale, as the extension's GLSL writes it.
+        let (s, c) = r.sin_cos();
+        transform = [[c * sx, -s * sy, ox], [s * sx, c * sy, oy]];
+        tex_coord = t.tex_coord().unwrap_or(tex_coord);
+    }
+    if tex_coord != 0 {
+        return Err(format!("{at}.texCoord: {tex_coord}; glint reads TEXCOORD_0 only so far"));
+    }
+    let wrap = |m: gltf::texture::WrappingMode| match m {
+        gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+        gltf::texture::WrappingMode::ClampToEdge => Wrap::Clamp,
+        gltf::texture::WrappingMode::MirroredRepeat => Wrap::Mirror,
+    };
+    let sampler = texture.sampler();
+    Ok(TextureRef { image: texture.source().index(), wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())], transform })
+}
+
+/// Decodes image `index` of `doc`; a file it names is pushed on `files`.
+pub(crate) fn decode(doc: &gltf::Document, index: usize, buffers: &[Vec<u8>], dir: &Path, files: &mut Vec<PathBuf>) -> Result<Image, String> {
+    let at = format!("images[{index}]");
+    let image = doc.images().nth(index).ok_or_else(|| format!("{at}: missing"))?;
+    let bytes: Vec<u8> = match image.source() {
+        gltf::image::Source::View { view, .. } => {
+            let buffer = buffers.get(view.buffer().index()).map_or(&[][..], Vec::as_slice);
+            let range = view.offset()..view.offset().saturating_add(view.length());
+            buffer.get(range).ok_or_else(|| format!("{at}.bufferView: bufferViews[{}] runs past its buffer", view.index()))?.to_vec()
+        }
+        gltf::image::Source::Uri { uri, .. } => match buffers::data_uri(uri) {
+            Some(decoded) => decoded.map_err(|e| format!("{at}.uri: a data URI that is not valid base64: {e}"))?,
+            None => {
+                let file = buffers::local_file(uri, dir).map_err(|e| format!("{at}.uri: {e}"))?;
+                let bytes = std::fs::read(&file).map_err(|e| format!("{at}.uri: cannot read \"{uri}\" (looked for {}): {e}", file.display()))?;
+                files.push(file);
+                bytes
+            }
+        },
+    };
+    let decoded = image::load_from_memory(&bytes).map_err(|e| format!("{at}: cannot decode the image (glint reads PNG and JPEG): {e}"))?;
+    let rgba = decoded.to_rgba8();
+    let (width, height) = rgba.dimensions();
+    if width == 0 || height == 0 {
+        return Err(format!("{at}: the image is empty ({width}x{height})"));
+    }
+    Ok(Image { width, height, rgba: rgba.into_raw() })
+}

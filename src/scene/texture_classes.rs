@@ -1,0 +1,202 @@
+//! A scene's textures as the GPU holds them: every image resampled to a
+//! square power-of-two side (a size class) and stacked in that class's
+//! `texture_2d_array`, with its mip chain, so one sampler with hardware
+//! wrapping and trilinear filtering reads any of them (lavapipe has no
+//! binding arrays). Resampling and mips average in linear light; texels
+//! stay sRGB (`Rgba8UnormSrgb`, decoded by the sampler). Pure: tested
+//! without a GPU.
+
+use glam::Vec4;
+
+use super::world::TextureImage;
+
+/// The sides of the size classes. An image goes to the smallest class at
+/// least as large as its larger side (the largest class when none is:
+/// it is scaled down).
+pub const CLASSES: [u32; 4] = [256, 512, 1024, 2048];
+
+/// "No texture" in a material's texture slot.
+pub const NO_TEXTURE: u32 = u32::MAX;
+
+/// Where each texture went: (class index, layer in that class), and how
+/// many layers each class holds.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TextureLayout {
+    /// Per texture, in scene order: (class index, layer).
+    pub places: Vec<(usize, u32)>,
+    /// Layers in each class.
+    pub layers: [u32; CLASSES.len()],
+}
+
+impl TextureLayout {
+    /// The slot value shaders read for texture `i`: class in the top 16
+    /// bits, layer in the low 16.
+    pub fn slot(&self, i: usize) -> u32 {
+        self.places.get(i).map_or(NO_TEXTURE, |&(c, l)| ((c as u32) << 16) | l)
+    }
+}
+
+/// The class of a `width x height` image.
+pub fn class_of(width: u32, height: u32) -> usize {
+    let side = width.max(height);
+    CLASSES.iter().position(|&c| c >= side).unwrap_or(CLASSES.len() - 1)
+}
+
+/// Places `textures` in their classes, in order.
+pub fn layout(textures: &[TextureImage]) -> TextureLayout {
+    let mut layers = [0u32; CLASSES.len()];
+    let places = textures
+        .iter()
+        .map(|t| {
+            let c = class_of(t.width, t.height);
+            layers[c] += 1;
+            (c, layers[c] - 1)
+        })
+        .collect();
+    TextureLayout { places, layers }
+}
+
+/// Mip levels of a class side (down to 1x1).
+pub fn mip_count(side: u32) -> u32 {
+    32 - side.leading_zeros()
+}
+
+/// `image` as `side x side` sRGB RGBA8 levels, largest first, down to 1x1.
+pub fn mip_chain(image: &TextureImage, side: u32) -> Vec<Vec<u8>> {
+    let lut = srgb_to_linear_table();
+    let src: Vec<Vec4> = image
+        .rgba
+        .chunks_exact(4)
+        .map(|p| Vec4::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], f32::from(p[3]) / 255.0))
+        .collect();
+    let (w, h) = (image.width as usize, image.height as usize);
+    let s = side as usize;
+    // Rows first, then columns.
+    let mut rows = Vec::with_capacity(s * h);
+    for y in 0..h {
+        rows.extend(resample(&src[y * w..(y + 1) * w], s));
+    }
+    let mut level = vec![Vec4::ZERO; s * s];
+    let mut column = vec![Vec4::ZERO; h];
+    for x in 0..s {
+        for y in 0..h {
+            column[y] = rows[y * s + x];
+        }
+        for (y, v) in resample(&column, s).into_iter().enumerate() {
+            level[y * s + x] = v;
+        }
+    }
+    let mut out = vec![encode(&level)];
+    let mut n = s;
+    while n > 1 {
+        let m = n / 2;
+        let mut next = vec![Vec4::ZERO; m * m];
+        for y in 0..m {
+            for x in 0..m {
+                let at = |dx: usize, dy: usize| level[(2 * y + dy) * n + 2 * x + dx];
+                next[y * m + x] = 0.25 * (at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1));
+            }
+        }
+        out.push(encode(&next));
+        level = next;
+        n = m;
+    }
+    out
+}
+
+/// `src` resampled to `len` values: the average over each output texel's
+/// footprint when shrinking, linear interpolation (clamped at the ends)
+/// when growing.
+fn resample(src: &[Vec4], len: usize) -> Vec<Vec4> {
+    let n = src.len();
+    if n == len {
+        return src.to_vec();
+    }
+    if n > len {
+        let scale = n as f64 / len as f64;
+        return (0..len)
+            .map(|i| {
+                let (a, b) = (i as f64 * scale, (i + 1) as f64 * scale);
+                let mut sum = Vec4::ZERO;
+                let mut k = a.floor() as usize;
+                while (k as f64) < b && k < n {
+                    let cover = (b.min(k as f64 + 1.0) - a.max(k as f64)) as f32;
+                    sum += src[k] * cover;
+                    k += 1;
+                }
+                sum / (b - a) as f32
+            })
+            .collect();
+    }
+    (0..len)
+        .map(|i| {
+            let x = ((i as f64 + 0.5) * n as f64 / len as f64 - 0.5).clamp(0.0, (n - 1) as f64);
+            let k = (x.floor() as usize).min(n - 1);
+            let t = (x - k as f64) as f32;
+            src[k].lerp(src[(k + 1).min(n - 1)], t)
+        })
+        .collect()
+}
+
+fn srgb_to_linear_table() -> [f32; 256] {
+    let mut t = [0.0; 256];
+    for (i, v) in t.iter_mut().enumerate() {
+        let c = i as f32 / 255.0;
+        *v = if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    }
+    t
+}
+
+fn linear_to_srgb(l: f32) -> u8 {
+    let l = l.clamp(0.0, 1.0);
+    let c = if l <= 0.003_130_8 { 12.92 * l } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
+    (c * 255.0 + 0.5) as u8
+}
+
+fn encode(level: &[Vec4]) -> Vec<u8> {
+    level.iter().flat_map(|v| [linear_to_srgb(v.x), linear_to_srgb(v.y), linear_to_srgb(v.z), (v.w.clamp(0.0, 1.0) * 255.0 + 0.5) as u8]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(width: u32, height: u32, texel: impl Fn(u32, u32) -> [u8; 4]) -> TextureImage {
+        let rgba = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).flat_map(|(x, y)| texel(x, y)).collect();
+        TextureImage { width, height, rgba }
+    }
+
+    #[test]
+    fn classes_take_the_smallest_side_that_fits() {
+        assert_eq!(class_of(16, 8), 0);
+        assert_eq!(class_of(256, 256), 0);
+        assert_eq!(class_of(300, 20), 1);
+        assert_eq!(class_of(1024, 2048), 3);
+        assert_eq!(class_of(8192, 8192), 3, "scaled down into the largest");
+        let textures = [image(4, 4, |_, _| [0; 4]), image(600, 10, |_, _| [0; 4]), image(2, 2, |_, _| [0; 4])];
+        let l = layout(&textures);
+        assert_eq!(l.places, vec![(0, 0), (2, 0), (0, 1)]);
+        assert_eq!(l.layers, [2, 0, 1, 0]);
+        assert_eq!(l.slot(2), 1);
+        assert_eq!(l.slot(1), 2 << 16);
+        assert_eq!(l.slot(9), NO_TEXTURE);
+        assert_eq!(mip_count(256), 9);
+    }
+
+    #[test]
+    fn mips_average_in_linear_light() {
+        // A constant image stays constant at every level and size.
+        let flat = mip_chain(&image(3, 5, |_, _| [200, 100, 50, 255]), 8);
+        assert_eq!(flat.len(), 4);
+        for (k, level) in flat.iter().enumerate() {
+            assert_eq!(level.len(), 4 * (8 >> k) * (8 >> k));
+            assert!(level.chunks_exact(4).all(|p| p == [200, 100, 50, 255]), "level {k}: {:?}", &level[..4]);
+        }
+        // Black and white halves average to linear 0.5 (sRGB 188), not 128.
+        let halves = mip_chain(&image(2, 2, |x, _| if x == 0 { [0, 0, 0, 255] } else { [255, 255, 255, 255] }), 4);
+        assert_eq!(&halves[2][..4], &[188, 188, 188, 255]);
+        // Shrinking a 4-texel row to 2 averages pairs.
+        let row = [Vec4::ZERO, Vec4::ONE, Vec4::ONE, Vec4::ONE];
+        assert_eq!(resample(&row, 2), vec![Vec4::splat(0.5), Vec4::ONE]);
+    }
+}
