@@ -2,10 +2,13 @@
 // by white light; emitters show their emission, misses the background.
 // Also seeds `lit` with what needs no lighting: emission and background.
 #import scene
+#import textures
 
 @group(0) @binding(0) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(1) var albedo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var lit: texture_storage_2d<rgba32float, write>;
+// (The hit point: where a textured material is read.)
+@group(0) @binding(3) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -16,7 +19,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let miss = ids.y == NO_OBJECT;
     // One store per texture, chosen by select: CPU drivers run every
     // branch under a lane mask, so a store in each would cost three.
-    let m = load_material(select(ids.x, 0u, miss));
+    let m = gbuffer_material(ids, textureLoad(gbuf_pos, id.xy));
     let shown = select(select(m.albedo, m.emission, is_emissive(m)), frame.background, miss);
     let unlit = unlit_radiance(m, miss);
     textureStore(albedo, id.xy, vec4f(shown, 1.0));

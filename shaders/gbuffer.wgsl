@@ -37,7 +37,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     textureStore(gbuf_pos, id.xy, select(vec4f(rd, -1.0), vec4f(hit.position, hit.t), found));
     textureStore(gbuf_normal, id.xy, select(vec4f(0.0), normal, found));
     // z: the hit's error bound (f32 bits), which the passes that start
-    // rays here offset them by (offset_by).
+    // rays here offset them by (offset_by); w: the triangle, whose uvs
+    // textured materials read (shared/textures.wgsl).
     let error = bitcast<u32>(gbuffer_offset_error(hit));
-    textureStore(gbuf_id, id.xy, select(vec4u(NO_HIT, NO_HIT, 0u, 0u), vec4u(hit.material, hit.object, error, 0u), found));
+    textureStore(gbuf_id, id.xy, select(vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), vec4u(hit.material, hit.object, error, hit.prim), found));
 }

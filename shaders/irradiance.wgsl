@@ -10,6 +10,7 @@
 // inactive ones black).
 #import ddgi_volume
 #import lights
+#import textures
 
 @group(0) @binding(0) var gbuf_pos: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(1) var gbuf_normal: texture_storage_2d<rgba16float, read>;
@@ -124,7 +125,8 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
         if !hit_found(hit) {
             return out + atten * frame.background;
         }
-        let m = load_material(hit.material);
+        // A probe's rays gather diffusely: a wide cone (one radian).
+        let m = material_at(hit.material, hit.prim, hit.position, dir, hit.t);
         if hit.light >= 0 {
             return out + select(vec3f(0.0), atten * m.emission, depth > 0u);
         }

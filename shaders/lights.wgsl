@@ -9,6 +9,7 @@
 // exp(-falloff_k d) in place of 1/d^2.
 #import origins
 #import lights
+#import textures
 
 override SPHERE_MODE: u32 = 2u;
 override POINT_LIGHTS: bool = true;
@@ -42,7 +43,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let ids = textureLoad(gbuf_id, id.xy);
     let miss = ids.y == NO_OBJECT;
-    let m = load_material(select(ids.x, 0u, miss));
+    let m = gbuffer_material(ids, textureLoad(gbuf_pos, id.xy));
     // One store, the light added only where a lit surface is: CPU drivers
     // run every branch under a lane mask, so an early store for the other
     // pixels would be a second store for all of them.
@@ -60,7 +61,7 @@ fn first(@builtin(global_invocation_id) id: vec3u) {
     }
     let ids = textureLoad(gbuf_id, id.xy);
     let miss = ids.y == NO_OBJECT;
-    let m = load_material(select(ids.x, 0u, miss));
+    let m = gbuffer_material(ids, textureLoad(gbuf_pos, id.xy));
     let lit_surface = !miss && !is_emissive(m);
     textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss), 1.0), bitcast<f32>(ids.z)));
 }

@@ -10,4 +10,4 @@
 #import path_render
 
 // The first hit goes nowhere (shared/path_render.wgsl).
-fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec3u) {}
+fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {}

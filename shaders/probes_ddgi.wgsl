@@ -20,6 +20,7 @@
 #import ddgi_volume
 #import lights
 #import run
+#import textures
 
 // Updates of history a change is worth (K above): after a scene change the
 // blend weight starts at 1 / (1 + K).
@@ -53,7 +54,8 @@ fn rays_per_probe(rays: vec2u) -> u32 {
 
 // The light leaving hit `hit` towards -`dir`, diffuse only.
 fn shade_hit(hit: Hit, dir: vec3f, rng: ptr<function, Rng>) -> vec3f {
-    let m = load_material(hit.material);
+    // A probe's rays gather diffusely: a wide cone (one radian).
+    let m = material_at(hit.material, hit.prim, hit.position, dir, hit.t);
     if hit.light >= 0 {
         return select(vec3f(0.0), m.emission, params.emitters != 0u);
     }

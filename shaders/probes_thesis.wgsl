@@ -50,7 +50,8 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
         if !hit_found(hit) {
             return atten * frame.background;
         }
-        let m = load_material(hit.material);
+        // A probe's rays gather diffusely: a wide cone (one radian).
+        let m = material_at(hit.material, hit.prim, hit.position, dir, hit.t);
         if is_emissive(m) {
             return select(vec3f(0.0), atten * m.emission, params.emitters != 0u || hit.light < 0);
         }

@@ -3,6 +3,7 @@
 // (made with `base_samples` per light) by sample count.
 #import lights
 #import work_list
+#import textures
 
 struct Params {
     samples: u32, // ui: 1..64 limit "extra samples"
@@ -44,11 +45,12 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     }
     let before = textureLoad(lit_in, id.xy);
     let ids = textureLoad(gbuf_id, id.xy);
-    let p = textureLoad(gbuf_pos, id.xy).xyz;
+    let pos = textureLoad(gbuf_pos, id.xy);
+    let p = pos.xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     // A lit surface (main listed no other): its albedo is the material's,
     // what the albedo pass would have stored.
-    let base = diffuse_albedo(load_material(ids.x));
+    let base = diffuse_albedo(gbuffer_material(ids, pos));
     let o = offset_by(p, n, bitcast<f32>(ids.z));
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);

@@ -116,3 +116,81 @@ fn camera_n_picks_a_gltf_camera() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("--camera 2") && stderr.contains("2 perspective camera(s)"), "{stderr}");
 }
+
+/// A quad filling a 32x32 view (camera at z = 2, 53.13 degrees), uvs
+/// 0..`span` from the top left, its base colour a 2x2 image (red, green
+/// over blue, white) read with `wrap` (glTF's code for s and t).
+fn textured_quad(dir: &std::path::Path, span: f32, wrap: u32) -> std::path::PathBuf {
+    use base64::Engine as _;
+    let img = image::RgbaImage::from_raw(2, 2, vec![255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255]).expect("image");
+    let mut png = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut png, image::ImageFormat::Png).expect("encode");
+    let pos: [[f32; 3]; 4] = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]];
+    let uv: [[f32; 2]; 4] = [[0.0, span], [span, span], [span, 0.0], [0.0, 0.0]];
+    let mut blob: Vec<u8> = pos.iter().flatten().chain(uv.iter().flatten()).flat_map(|x| x.to_le_bytes()).collect();
+    blob.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    let b64 = |b: &[u8]| base64::engine::general_purpose::STANDARD.encode(b);
+    let gltf = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0}}]}}],
+  "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}, "metallicFactor": 0}}}}],
+  "samplers": [{{"wrapS": {wrap}, "wrapT": {wrap}}}], "textures": [{{"source": 0, "sampler": 0}}],
+  "images": [{{"uri": "data:image/png;base64,{}"}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]}},
+    {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}}, {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}],
+  "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
+        b64(png.get_ref()),
+        blob.len(),
+        b64(&blob)
+    );
+    let name = format!("quad-{span}-{wrap}");
+    std::fs::write(dir.join(format!("{name}.gltf")), gltf).expect("write");
+    let scene = dir.join(format!("{name}.ron"));
+    let vfov = 2.0 * 0.5f64.atan().to_degrees();
+    std::fs::write(
+        &scene,
+        format!("Scene(camera: Camera(position: (0.0, 0.0, 2.0), target: (0.0, 0.0, 0.0), vfov_deg: {vfov}), objects: [Gltf(path: \"{name}.gltf\")], lights: [PointLight(position: (0.0, 0.0, 1.0), intensity: (1.0, 1.0, 1.0))])"),
+    )
+    .expect("write");
+    scene
+}
+
+#[test]
+fn textures_show_where_their_uvs_and_wrap_modes_say() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("gltf-texture");
+    let (red, green, blue, white) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0]);
+    // (uv span, wrap, [(pixel, albedo)]): the albedo pass's output.
+    let repeat = 10497;
+    type Probes = Vec<((usize, usize), [f32; 3])>;
+    let cases: [(f32, u32, Probes); 3] = [
+        (1.0, repeat, vec![((8, 8), red), ((24, 8), green), ((8, 24), blue), ((24, 24), white)]),
+        // u = 1.28 at x = 20: clamped it reads the right column, repeated
+        // the left, mirrored the right (v = 0.16 at y = 2, 0.78 at y = 12;
+        // the 2x2 image is magnified with bilinear filtering, so the
+        // probes stay near texel centres).
+        (2.0, 33071, vec![((20, 2), green), ((20, 12), white), ((3, 2), red)]),
+        (2.0, repeat, vec![((20, 2), red), ((3, 2), red)]),
+    ];
+    for (span, wrap, probes) in cases {
+        let scene = textured_quad(&dir, span, wrap);
+        let out = dir.join("albedo.exr");
+        let (code, stderr) = glint(&["render", scene.to_str().expect("utf-8"), "--graph", "passes/direct.ron", "--output", "albedo", "--size", "32x32", "--out", out.to_str().expect("utf-8")]);
+        assert_eq!(code, 0, "{stderr}");
+        let img = glint::image_io::load(&out).expect("read");
+        for ((x, y), want) in probes {
+            let got = img.get(x as u32, y as u32);
+            let off = (0..3).map(|k| (got[k] - want[k]).abs()).fold(0.0f32, f32::max);
+            assert!(off < 0.1, "span {span}, wrap {wrap}: pixel ({x}, {y}) is {got:?}, want {want:?}");
+        }
+    }
+    let scene = textured_quad(&dir, 2.0, 33648);
+    let out = dir.join("mirror.exr");
+    let (code, stderr) = glint(&["render", scene.to_str().expect("utf-8"), "--graph", "passes/direct.ron", "--output", "albedo", "--size", "32x32", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, 0, "{stderr}");
+    let got = glint::image_io::load(&out).expect("read").get(20, 2);
+    assert!(got[1] > 0.9 && got[0] < 0.1, "mirrored, u = 1.28 reads u = 0.72 (green): {got:?}");
+}

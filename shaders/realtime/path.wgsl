@@ -7,8 +7,8 @@
 @group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(5) var gbuf_id: texture_storage_2d<rgba32uint, write>;
 
-fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec3u) {
+fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {
     textureStore(gbuf_pos, pixel, pos);
     textureStore(gbuf_normal, pixel, normal);
-    textureStore(gbuf_id, pixel, vec4u(ids, 0u));
+    textureStore(gbuf_id, pixel, ids);
 }

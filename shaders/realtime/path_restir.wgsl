@@ -12,10 +12,10 @@
 // its geometric normal facing the ray (octahedral, packed).
 @group(0) @binding(6) var di_surface: texture_storage_2d<rgba32uint, write>;
 
-fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec3u) {
+fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {
     textureStore(gbuf_pos, pixel, pos);
     textureStore(gbuf_normal, pixel, normal);
-    textureStore(gbuf_id, pixel, vec4u(ids, 0u));
+    textureStore(gbuf_id, pixel, ids);
     let ng = pack2x16snorm(normal_to_oct(path_primary_ng));
     textureStore(di_surface, pixel, vec4u(bitcast<vec3u>(path_primary_direct), ng));
 }

@@ -32,6 +32,7 @@
 #import reproject
 #import finite
 #import realtime_common
+#import textures
 
 struct Params {
     normal_cos: f32, // ui: 0..1 "normal cos"
@@ -147,7 +148,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let miss = g.w < 0.0;
     // One material load (material 0 stands in on a miss, whose id is
     // NO_HIT: no load out of range).
-    let m = load_material(select(ids.x, 0u, miss));
+    let m = gbuffer_material(select(ids, vec4u(0u, NO_OBJECT, 0u, NO_OBJECT), miss), g);
     let surface = !miss && ids.y != NO_OBJECT && !is_emissive(m);
     let a = select(vec3f(0.0), m.albedo, surface);
     // Demodulated: the radiance over the albedo, channels without albedo 0

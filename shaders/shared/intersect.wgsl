@@ -30,6 +30,9 @@ struct Hit {
     object: u32,
     // Index of the sphere light hit, or -1.
     light: i32,
+    // The triangle hit (what shared/textures.wgsl reads uvs of), NO_HIT
+    // for a sphere or a miss.
+    prim: u32,
 }
 
 fn hit_found(h: Hit) -> bool {
@@ -37,7 +40,7 @@ fn hit_found(h: Hit) -> bool {
 }
 
 fn no_hit(tmax: f32) -> Hit {
-    return Hit(tmax, vec3f(0.0), vec3f(0.0), vec3f(0.0), vec3f(0.0), 0u, NO_HIT, -1);
+    return Hit(tmax, vec3f(0.0), vec3f(0.0), vec3f(0.0), vec3f(0.0), 0u, NO_HIT, -1, NO_HIT);
 }
 
 // The traversal stacks. Module-scope private memory is zero-initialised
@@ -444,7 +447,7 @@ fn closest_hit(c: Closest, ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     if SCENE_SPHERES && (!SCENE_MESHES || (c.prim & SPHERE_BIT) != 0u) {
         let s = load_sphere(c.prim & ~SPHERE_BIT);
         let n = normalize(ro + c.t * rd - s.geo.xyz);
-        return Hit(c.t, s.geo.xyz + s.geo.w * n, n, n, hit_error_sphere(s.geo.xyz, s.geo.w), s.ids.x, s.ids.z, bitcast<i32>(s.ids.y));
+        return Hit(c.t, s.geo.xyz + s.geo.w * n, n, n, hit_error_sphere(s.geo.xyz, s.geo.w), s.ids.x, s.ids.z, bitcast<i32>(s.ids.y), NO_HIT);
     }
     let tri = load_triangle(c.prim);
     let p0 = tri.p0.xyz;
@@ -470,7 +473,7 @@ fn closest_hit(c: Closest, ro: vec3f, rd: vec3f, tmax: f32) -> Hit {
     let along_ray = RAY_POINT_GAIN * (e_ray.x + e_ray.y + e_ray.z) < e_bary.x + e_bary.y + e_bary.z;
     let p = select(p_bary, p_ray, along_ray);
     let error = select(e_bary, e_ray, along_ray);
-    return Hit(c.t, p, gn, sn, error, bitcast<u32>(tri.p0.w), bitcast<u32>(tri.p1.w), -1);
+    return Hit(c.t, p, gn, sn, error, bitcast<u32>(tri.p0.w), bitcast<u32>(tri.p1.w), -1, c.prim);
 }
 
 // How much tighter the ray's point must be than the interpolated one to

@@ -7,6 +7,7 @@
 #import lights
 #import rng
 #import blue_noise
+#import textures
 
 // The first hit of the last path traced, as the G-buffer stores it:
 // position and distance (direction and -1 on a miss), and the normal
@@ -16,8 +17,9 @@
 override FIRST_HIT: bool = true;
 var<private> path_primary_pos: vec4f;
 var<private> path_primary_normal: vec4f;
-// (material, object, the hit's error along the stored normal as f32 bits)
-var<private> path_primary_ids: vec3u;
+// (material, object, the hit's error along the stored normal as f32 bits,
+// the triangle: NO_HIT for a sphere)
+var<private> path_primary_ids: vec4u;
 // With THROUGH_MIRRORS, the first hit recorded is the first one past any
 // perfect mirrors (specular share 1, roughness 0: a path goes on from them
 // in one direction only), with the specular share 1 in the normal's w (what
@@ -97,10 +99,14 @@ struct PathState {
     // The last bounce was the first hit's diffuse one under
     // FIRST_DIRECT_APART: a light it hits is another pass's to count.
     direct_apart: bool,
+    // The ray cone textures are read with (shared/textures.wgsl): its
+    // width at the last hit and its spread angle (a pixel's from the
+    // camera; wider after a rough bounce).
+    cone: vec2f,
 }
 
 fn new_path(ro: vec3f, rd: vec3f) -> PathState {
-    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u, false);
+    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u, false, vec2f(0.0, pixel_spread()));
 }
 
 // What a bounce leaves to trace: the next ray from `o` along the state's
@@ -128,14 +134,15 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     let rd = (*st).rd;
     // Loaded before the miss test (a miss has material 0): the G-buffer's
     // specular share comes from the same two texels.
-    let m = load_material(hit.material);
+    (*st).cone.x += (*st).cone.y * hit.t;
+    let m = material_at(hit.material, hit.prim, hit.position, rd, (*st).cone.x);
     let recording = FIRST_HIT && (depth == 0u || (THROUGH_MIRRORS && path_primary_open));
     if recording {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
         let view_dependent = select(m.specular, 1.0, depth > 0u);
         path_primary_normal = select(vec4f(facing, view_dependent), vec4f(0.0), !hit_found(hit));
-        path_primary_ids = select(vec3u(hit.material, hit.object, bitcast<u32>(gbuffer_offset_error(hit))), vec3u(NO_HIT, NO_HIT, 0u), !hit_found(hit));
+        path_primary_ids = select(vec4u(hit.material, hit.object, bitcast<u32>(gbuffer_offset_error(hit)), hit.prim), vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), !hit_found(hit));
         path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0;
         path_primary_direct = vec3f(0.0);
     }
@@ -202,6 +209,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             (*st).throughput *= m.albedo;
             (*st).bsdf_pdf = -1.0;
             (*st).rd = dir;
+            (*st).cone.y = max((*st).cone.y, m.roughness);
         }
     } else {
         // Next-event estimation: every light, one sample each; with
@@ -248,6 +256,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             (*st).throughput *= m.albedo;
             (*st).bsdf_pdf = cos_d / PI;
             (*st).rd = dir;
+            (*st).cone.y = max((*st).cone.y, 1.0);
             (*st).direct_apart = direct_apart;
         }
     }

@@ -6,7 +6,7 @@
 // FIRST_HIT): pathtrace.wgsl drops it, pathtrace_gbuffer.wgsl stores it
 // as the G-buffer does. So a graph binds the G-buffer only where a pass
 // of it reads one.
-// hook: fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec3u)
+// hook: fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u)
 #import path
 
 struct Params {
@@ -66,7 +66,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     }
     path_primary_pos = vec4f(0.0);
     path_primary_normal = vec4f(0.0);
-    path_primary_ids = vec3u(NO_HIT, NO_HIT, 0u);
+    path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
     path_primary_open = true;
     path_primary_direct = vec3f(0.0);
     loop {
@@ -114,7 +114,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             st = new_path(ro, rd);
             path_primary_pos = vec4f(0.0);
             path_primary_normal = vec4f(0.0);
-            path_primary_ids = vec3u(NO_HIT, NO_HIT, 0u);
+            path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
             path_primary_open = true;
             path_primary_direct = vec3f(0.0);
         } else {

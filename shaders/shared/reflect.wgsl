@@ -3,6 +3,7 @@
 // at the hits it shades).
 #import lights
 #import work_list
+#import textures
 
 struct Params {
     max_depth: u32, // ui: 1..8 limit "max depth"
@@ -69,6 +70,10 @@ struct Reflection {
     hit_n: vec3f,
     hit_error: f32,
     hit_m: u32,
+    // The hit's material with its textures read (hit_m's).
+    hit_mat: Material,
+    // The ray cone's width so far (textures' level of detail).
+    cone: f32,
 }
 
 // The pass's own entry, per texel: lists the texels whose surface
@@ -91,8 +96,10 @@ fn reflect_begin(id: vec3u) -> Reflection {
     var r: Reflection;
     r.color = before.rgb;
     r.rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
-    let m0 = load_material(ids.x);
-    r.p = textureLoad(gbuf_pos, id.xy).xyz;
+    let pos = textureLoad(gbuf_pos, id.xy);
+    let m0 = gbuffer_material(ids, pos);
+    r.cone = pos.w * pixel_spread();
+    r.p = pos.xyz;
     r.n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     r.error = bitcast<f32>(ids.z);
     r.dir = reflect(normalize(r.p - frame.camera.origin), r.n);
@@ -113,7 +120,8 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
             (*r).done = true;
             return false;
         }
-        let m = load_material(hit.material);
+        (*r).cone += hit.t * pixel_spread();
+        let m = material_at(hit.material, hit.prim, hit.position, (*r).dir, (*r).cone);
         if is_emissive(m) {
             (*r).color += (*r).atten * m.emission;
             (*r).done = true;
@@ -127,6 +135,7 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
         (*r).hit_n = hn;
         (*r).hit_error = gbuffer_offset_error(hit);
         (*r).hit_m = hit.material;
+        (*r).hit_mat = m;
         if params.reuse == 1u {
             let q = screen_pixel(hit.position);
             if q.x >= 0 {
@@ -156,7 +165,7 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
 // Adds the hit's diffuse light and follows a specular surface on.
 fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
     (*r).color += (*r).atten * diffuse;
-    let m = load_material((*r).hit_m);
+    let m = (*r).hit_mat;
     if m.specular <= 0.0 {
         (*r).done = true;
         return;
@@ -172,7 +181,7 @@ fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
 // Shades the hit `reflect_next` stopped at, with `extra` irradiance.
 fn reflect_shade(r: ptr<function, Reflection>, extra: vec3f) {
     var rng = (*r).rng;
-    let diffuse = shade((*r).hit_p, (*r).hit_n, (*r).hit_error, load_material((*r).hit_m), extra, &rng);
+    let diffuse = shade((*r).hit_p, (*r).hit_n, (*r).hit_error, (*r).hit_mat, extra, &rng);
     (*r).rng = rng;
     reflect_advance(r, diffuse);
 }

@@ -13,7 +13,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::{build_with_depth, refit, Aabb, Bvh, BvhBuilder, BvhNode, BLAS_MAX_DEPTH, TLAS_MAX_DEPTH};
-use crate::scene::{SceneData, TriangleGpu, TriangleNormalsGpu};
+use crate::scene::{SceneData, TriangleGpu, TriangleNormalsGpu, TriangleUvGpu};
 
 /// Flag in a TLAS node's `count`: a TLAS leaf (its primitives index `instances`).
 pub const TLAS_LEAF: u32 = 0x8000_0000;
@@ -60,6 +60,7 @@ impl BuildStats {
 struct CachedBlas {
     input: Vec<TriangleGpu>,
     normals: Vec<TriangleNormalsGpu>,
+    uvs: Vec<TriangleUvGpu>,
     bvh: Bvh,
 }
 
@@ -86,14 +87,16 @@ impl SceneBvh {
             let range = mesh.first as usize..(mesh.first + mesh.count) as usize;
             let input = &data.triangles[range.clone()];
             let normals = data.normals.get(range.clone()).unwrap_or(&[]);
+            let uvs = data.uvs.get(range.clone()).unwrap_or(&[]);
             let entry = &mut self.cache[m];
             match entry {
-                Some(c) if c.input == input && c.normals == normals => {}
+                Some(c) if c.input == input && c.normals == normals && c.uvs == uvs => {}
                 Some(c) if c.input.len() == input.len() => {
                     let bounds: Vec<Aabb> = input.iter().map(tri_bounds).collect();
                     refit(&mut c.bvh, &bounds);
                     c.input.copy_from_slice(input);
                     c.normals = normals.to_vec();
+                    c.uvs = uvs.to_vec();
                 }
                 _ => {
                     let bounds: Vec<Aabb> = input.iter().map(tri_bounds).collect();
@@ -101,14 +104,17 @@ impl SceneBvh {
                     let bvh = self.builder.build(&bounds, BLAS_MAX_DEPTH);
                     stats.build_ms += start.elapsed().as_secs_f64() * 1e3;
                     stats.built_triangles += input.len();
-                    *entry = Some(CachedBlas { input: input.to_vec(), normals: normals.to_vec(), bvh });
+                    *entry = Some(CachedBlas { input: input.to_vec(), normals: normals.to_vec(), uvs: uvs.to_vec(), bvh });
                 }
             }
             let Some(c) = entry.as_ref() else { continue };
-            // Triangles (and their normals) in leaf order.
+            // Triangles (and their normals and uvs) in leaf order.
             for (k, &p) in c.bvh.order.iter().enumerate() {
                 data.triangles[range.start + k] = c.input[p as usize];
                 if let (Some(dst), Some(src)) = (data.normals.get_mut(range.start + k), c.normals.get(p as usize)) {
+                    *dst = *src;
+                }
+                if let (Some(dst), Some(src)) = (data.uvs.get_mut(range.start + k), c.uvs.get(p as usize)) {
                     *dst = *src;
                 }
             }

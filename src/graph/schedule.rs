@@ -51,11 +51,26 @@ pub enum EngineResource {
     Tiles,
     /// Blue-noise ranks, a 64x64 tile of four channels (`crate::blue_noise`).
     BlueNoise,
+    /// Each triangle's texture coordinates (parallel to the triangles).
+    Uvs,
+    /// Each material's texture slots (`crate::scene::texture_classes`).
+    MaterialTextures,
+    /// The scene's textures of side 256, 512, 1024 and 2048, one
+    /// `texture_2d_array` per size class.
+    Images256,
+    /// See `Images256`.
+    Images512,
+    /// See `Images256`.
+    Images1024,
+    /// See `Images256`.
+    Images2048,
+    /// The sampler the scene's textures are read with (trilinear, repeat).
+    Sampler,
 }
 
 impl EngineResource {
     /// Every engine resource.
-    pub const ALL: [EngineResource; 13] = [
+    pub const ALL: [EngineResource; 20] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Geometry,
@@ -69,6 +84,13 @@ impl EngineResource {
         EngineResource::Entries,
         EngineResource::Tiles,
         EngineResource::BlueNoise,
+        EngineResource::Uvs,
+        EngineResource::MaterialTextures,
+        EngineResource::Images256,
+        EngineResource::Images512,
+        EngineResource::Images1024,
+        EngineResource::Images2048,
+        EngineResource::Sampler,
     ];
 
     /// The name a shader binds it by (`frame`, `scene_spheres`, ...).
@@ -87,6 +109,13 @@ impl EngineResource {
             EngineResource::Entries => "scene_entries",
             EngineResource::Tiles => "scene_tiles",
             EngineResource::BlueNoise => "blue_noise",
+            EngineResource::Uvs => "scene_uvs",
+            EngineResource::MaterialTextures => "scene_material_textures",
+            EngineResource::Images256 => "scene_images_256",
+            EngineResource::Images512 => "scene_images_512",
+            EngineResource::Images1024 => "scene_images_1024",
+            EngineResource::Images2048 => "scene_images_2048",
+            EngineResource::Sampler => "scene_sampler",
         }
     }
 
@@ -107,9 +136,13 @@ impl EngineResource {
             | EngineResource::Origins
             | EngineResource::Tiles
             | EngineResource::BlueNoise
+            | EngineResource::Uvs
+            | EngineResource::MaterialTextures
             | EngineResource::Materials
             | EngineResource::Lights => EngineKind::Texture,
             EngineResource::Meshes => EngineKind::Storage,
+            EngineResource::Images256 | EngineResource::Images512 | EngineResource::Images1024 | EngineResource::Images2048 => EngineKind::TextureArray,
+            EngineResource::Sampler => EngineKind::Sampler,
         }
     }
 }
@@ -123,6 +156,10 @@ pub enum EngineKind {
     Storage,
     /// `texture_storage_2d<rgba32uint, read>` (records of 16-byte texels)
     Texture,
+    /// `texture_2d_array<f32>`, filterable (the scene's texture classes)
+    TextureArray,
+    /// `sampler` (filtering)
+    Sampler,
 }
 
 impl EngineKind {
@@ -132,6 +169,8 @@ impl EngineKind {
             EngineKind::Uniform => "var<uniform>",
             EngineKind::Storage => "var<storage, read>",
             EngineKind::Texture => "texture_storage_2d<rgba32uint, read>",
+            EngineKind::TextureArray => "texture_2d_array<f32>",
+            EngineKind::Sampler => "sampler",
         }
     }
 }

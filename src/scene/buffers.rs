@@ -208,6 +208,11 @@ pub struct SceneBuffers {
     pub cull_occluders: bool,
     /// Blue-noise ranks (`crate::blue_noise`), the same for every scene.
     pub blue_noise: SceneTexture,
+    /// Texture coordinates, parallel to the triangles (a scene with
+    /// textures; one zero texel otherwise).
+    pub uvs: SceneTexture,
+    /// Each material's texture slots (a scene with textures).
+    pub material_textures: SceneTexture,
     /// The arrays as last uploaded.
     pub data: SceneData,
     /// Bumped whenever anything visible changed.
@@ -256,6 +261,8 @@ impl SceneBuffers {
             tiles: SceneTexture::new(device, queue, "scene_tiles", &tile_texels),
             tile_texels,
             blue_noise: SceneTexture::new(device, queue, "blue_noise", crate::blue_noise::texels()),
+            uvs: SceneTexture::new(device, queue, "scene_uvs", &data.uvs),
+            material_textures: SceneTexture::new(device, queue, "scene_material_textures", &data.material_textures),
             tiles_for: None,
             tile_grid: [0, 0],
             flat_bytes,
@@ -300,6 +307,7 @@ impl SceneBuffers {
         let node_base = std::mem::size_of_val(data.triangles.as_slice()) / TEXEL_BYTES;
         write_texture(queue, &self.geometry, node_base, &old.bvh, &data.bvh, &mut changed);
         write_texture(queue, &self.normals, 0, &old.normals, &data.normals, &mut changed);
+        write_texture(queue, &self.uvs, 0, &old.uvs, &data.uvs, &mut changed);
         write(queue, &self.meshes, &old.meshes, &data.meshes, &mut changed);
         write_texture(queue, &self.materials, 0, &old.materials, &data.materials, &mut changed);
         write_texture(queue, &self.lights, 0, &old.lights, &data.lights, &mut changed);

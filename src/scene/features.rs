@@ -60,6 +60,8 @@ pub struct SceneFeatures {
     pub emissive: bool,
     /// Something moves.
     pub motion: bool,
+    /// Some surface samples a texture (base colour or emission).
+    pub textures: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
     pub lights: u32,
     /// Rays test every primitive instead of walking a BVH (at most
@@ -85,6 +87,7 @@ impl SceneFeatures {
             specular: true,
             emissive: true,
             motion: true,
+            textures: true,
             lights: u32::MAX,
             flat: false,
             enclosing_lights: true,

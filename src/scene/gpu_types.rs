@@ -112,6 +112,53 @@ pub struct LightGpu {
     pub kind: u32,
 }
 
+/// `struct TriangleUv` (32 bytes): the texture coordinates of the
+/// triangle with the same index (only in scenes with textures).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
+pub struct TriangleUvGpu {
+    /// At `p0`.
+    pub uv0: [f32; 2],
+    /// At `p1`.
+    pub uv1: [f32; 2],
+    /// At `p2`.
+    pub uv2: [f32; 2],
+    /// Padding; zero.
+    pub _pad: [f32; 2],
+}
+
+/// `struct MaterialTextures` (80 bytes): a material's texture slots
+/// (`texture_classes::TextureLayout::slot`, `NO_TEXTURE` for none), their
+/// wrap modes (2 bits each: base s, base t, emissive s, emissive t; 0
+/// repeat, 1 clamp, 2 mirror) and their uv transforms (two rows each).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct MaterialTexturesGpu {
+    /// Base colour slot.
+    pub base: u32,
+    /// Emission slot.
+    pub emissive: u32,
+    /// Wrap modes.
+    pub wrap: u32,
+    /// Padding; zero.
+    pub _pad: u32,
+    /// Base colour uv transform, row 0 (w unused).
+    pub base_u: [f32; 4],
+    /// Row 1.
+    pub base_v: [f32; 4],
+    /// Emission uv transform, row 0.
+    pub emissive_u: [f32; 4],
+    /// Row 1.
+    pub emissive_v: [f32; 4],
+}
+
+impl Default for MaterialTexturesGpu {
+    fn default() -> Self {
+        let (u, v) = ([1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]);
+        MaterialTexturesGpu { base: u32::MAX, emissive: u32::MAX, wrap: 0, _pad: 0, base_u: u, base_v: v, emissive_u: u, emissive_v: v }
+    }
+}
+
 /// Everything the GPU needs of a scene, as flat arrays.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SceneData {
@@ -121,6 +168,10 @@ pub struct SceneData {
     pub triangles: Vec<TriangleGpu>,
     /// Parallel to `triangles`.
     pub normals: Vec<TriangleNormalsGpu>,
+    /// Parallel to `triangles` in a scene with textures, else empty.
+    pub uvs: Vec<TriangleUvGpu>,
+    /// By material id (`NO_TEXTURE` slots where a material has none).
+    pub material_textures: Vec<MaterialTexturesGpu>,
     /// One per mesh instance with triangles, in `ObjectId` order.
     pub meshes: Vec<MeshGpu>,
     /// Every material, indexed by material id.

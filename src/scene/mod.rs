@@ -27,6 +27,7 @@ pub mod origins;
 mod pack;
 mod schema;
 pub mod specialise;
+pub mod texture_arrays;
 pub mod texture_classes;
 mod validate;
 mod world;

@@ -7,8 +7,10 @@ use glam::{DVec3, Vec3};
 
 use super::features::SceneFeatures;
 use super::gpu_types::{
-    LightGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, FLAT_LIMIT, LIGHT_POINT, LIGHT_SPHERE,
+    LightGpu, MaterialTexturesGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, TriangleUvGpu, FLAT_LIMIT, LIGHT_POINT,
+    LIGHT_SPHERE,
 };
+use super::texture_classes;
 use super::world::{
     Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, Transform,
 };
@@ -76,6 +78,8 @@ impl Scene {
         let mut triangles = Vec::with_capacity(self.triangle_count());
         let mut normals = Vec::with_capacity(self.triangle_count());
         let mut meshes = Vec::with_capacity(instances.len());
+        let textured = self.features.textures;
+        let mut uvs = Vec::with_capacity(if textured { self.triangle_count() } else { 0 });
         for (id, t, mesh) in instances {
             let Some(data) = self.meshes.get(mesh) else {
                 continue;
@@ -97,6 +101,10 @@ impl Scene {
                     p2: p[2].into(),
                     _pad0: 0,
                 });
+                if textured {
+                    let [a, b, c] = tri.uv.map(|v| v.to_array());
+                    uvs.push(TriangleUvGpu { uv0: a, uv1: b, uv2: c, _pad: [0.0; 2] });
+                }
                 normals.push(TriangleNormalsGpu {
                     n0: n[0].into(),
                     _pad1: 0.0,
@@ -123,6 +131,10 @@ impl Scene {
             normals,
             meshes,
             materials: self.materials.clone(),
+            uvs,
+            // Every material's slots, textured scene or not: a generic
+            // pipeline (SCENE_TEXTURES on) reads them and finds none.
+            material_textures: self.material_textures_gpu(),
             lights: lights.into_iter().map(|l| l.2).collect(),
             background: self.background.into(),
             ..Default::default()
@@ -244,6 +256,27 @@ impl Scene {
             }
         }
         self.mesh_bounds().into_iter().any(|(lo, hi)| reaches(lo, hi))
+    }
+
+    /// Every material's texture slots where they go on the GPU
+    /// (`texture_classes`), by material id.
+    fn material_textures_gpu(&self) -> Vec<MaterialTexturesGpu> {
+        let layout = texture_classes::layout(&self.textures);
+        let mut out = vec![MaterialTexturesGpu::default(); self.materials.len()];
+        for (gpu, m) in out.iter_mut().zip(&self.material_textures) {
+            let row = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
+            if let Some(s) = m.base_color {
+                gpu.base = layout.slot(s.texture);
+                gpu.wrap |= s.wrap[0] | (s.wrap[1] << 2);
+                (gpu.base_u, gpu.base_v) = (row(s.transform[0]), row(s.transform[1]));
+            }
+            if let Some(s) = m.emissive {
+                gpu.emissive = layout.slot(s.texture);
+                gpu.wrap |= (s.wrap[0] << 4) | (s.wrap[1] << 6);
+                (gpu.emissive_u, gpu.emissive_v) = (row(s.transform[0]), row(s.transform[1]));
+            }
+        }
+        out
     }
 
     /// Triangles over all mesh instances (quads count two).

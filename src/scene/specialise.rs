@@ -44,9 +44,11 @@ pub const SCENE_SPECULAR: &str = "SCENE_SPECULAR";
 pub const SCENE_ONE_LIGHT: &str = "SCENE_ONE_LIGHT";
 /// Whether a sphere light may hold a shading point inside it.
 pub const SCENE_INSIDE_LIGHTS: &str = "SCENE_INSIDE_LIGHTS";
+/// Whether some surface samples a texture (shared/textures.wgsl).
+pub const SCENE_TEXTURES: &str = "SCENE_TEXTURES";
 
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 7] = [
+pub const GENERIC: [(&str, bool); 8] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -54,6 +56,7 @@ pub const GENERIC: [(&str, bool); 7] = [
     (SCENE_SPECULAR, true),
     (SCENE_ONE_LIGHT, false),
     (SCENE_INSIDE_LIGHTS, true),
+    (SCENE_TEXTURES, true),
 ];
 
 /// The specialisations for a scene with `f`: only the constants that
@@ -86,6 +89,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
             reason: "no sphere light reaches a surface or the camera: sampling from inside one compiled out",
         });
     }
+    if !f.textures {
+        out.push(Specialisation { constant: SCENE_TEXTURES, value: false, reason: "no textures: texture sampling compiled out" });
+    }
     out
 }
 
@@ -109,16 +115,16 @@ mod tests {
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false)]);
         // One that may hold a surface or the camera keeps sampling from inside.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false)]);
     }
 
     #[test]

@@ -15,6 +15,7 @@ use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::EngineResource;
 use crate::scene::buffers::{scene_texture_rows, SceneBuffers, SCENE_TEXTURE_WIDTH};
+use crate::scene::texture_arrays::TextureArrays;
 use crate::scene::{Light, Scene, SceneData, Transform, FLAT_LIMIT};
 
 /// The override in `shaders/shared/intersect.wgsl` the engine sets from the
@@ -51,6 +52,8 @@ pub struct SceneGpu {
     pub bvh_stats: BuildStats,
     /// The scene arrays on the GPU (positions relative to `origin`).
     pub buffers: SceneBuffers,
+    /// The scene's textures, by size class, and their sampler.
+    pub textures: TextureArrays,
     /// The ray-offset scale of the scene as loaded (its size does not change
     /// when things move enough to matter: a power of two near half the
     /// extent).
@@ -88,11 +91,12 @@ impl SceneGpu {
         let oom = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let invalid = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let buffers = SceneBuffers::new(&gpu.device, &gpu.queue, data);
+        let textures = TextureArrays::new(&gpu.device, &gpu.queue, scene.textures()).map_err(|e| UserError::in_file(&scene.path, e))?;
         let refused = [pollster::block_on(invalid.pop()), pollster::block_on(oom.pop())];
         if let Some(e) = refused.into_iter().flatten().next() {
             return Err(UserError::new(format!("{} refused the scene's buffers: {e}; use fewer or smaller meshes", gpu.describe())));
         }
-        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, offset_scale, origin, bounds, pinned: false })
+        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, textures, offset_scale, origin, bounds, pinned: false })
     }
 
     /// The graph's probe grid over the bounds as loaded, relative to the
@@ -176,6 +180,13 @@ impl SceneGpu {
             EngineResource::Entries => b.entries.as_entire_binding(),
             EngineResource::Tiles => wgpu::BindingResource::TextureView(b.tiles.view()),
             EngineResource::BlueNoise => wgpu::BindingResource::TextureView(b.blue_noise.view()),
+            EngineResource::Uvs => wgpu::BindingResource::TextureView(b.uvs.view()),
+            EngineResource::MaterialTextures => wgpu::BindingResource::TextureView(b.material_textures.view()),
+            EngineResource::Images256 => wgpu::BindingResource::TextureView(&self.textures.views[0]),
+            EngineResource::Images512 => wgpu::BindingResource::TextureView(&self.textures.views[1]),
+            EngineResource::Images1024 => wgpu::BindingResource::TextureView(&self.textures.views[2]),
+            EngineResource::Images2048 => wgpu::BindingResource::TextureView(&self.textures.views[3]),
+            EngineResource::Sampler => wgpu::BindingResource::Sampler(&self.textures.sampler),
         }
     }
 }

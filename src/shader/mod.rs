@@ -141,7 +141,11 @@ fn binding_kind(module: &naga::Module, var: &naga::GlobalVariable) -> Result<Bin
                 }
                 _ => Err("only texture_2d<T> and texture_storage_2d are supported".into()),
             },
-            _ => Err("only 2D, non-array textures are supported (no samplers: use textureLoad)".into()),
+            TypeInner::Image { dim: ImageDimension::D2, arrayed: true, class: ImageClass::Sampled { kind: naga::ScalarKind::Float, multi: false } } => {
+                Ok(BindingKind::SampledTextureArray)
+            }
+            TypeInner::Sampler { comparison: false } => Ok(BindingKind::Sampler),
+            _ => Err("only 2D textures are supported (texture_2d_array<f32> and sampler for the engine's scene textures alone)".into()),
         },
         other => Err(format!("address space {other:?} cannot be bound")),
     }

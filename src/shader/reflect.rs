@@ -94,6 +94,11 @@ pub enum BindingKind {
         /// Whether it is declared `read`.
         read_only: bool,
     },
+    /// `texture_2d_array<f32>`, sampled with a filtering sampler (only
+    /// engine resources: the scene's texture size classes).
+    SampledTextureArray,
+    /// `sampler` (filtering; only the engine's `scene_sampler`).
+    Sampler,
 }
 
 impl BindingKind {
@@ -117,6 +122,8 @@ impl BindingKind {
             BindingKind::Uniform { type_name, .. } => format!("var<uniform> of type {type_name}"),
             BindingKind::Storage { read_only: true } => "var<storage, read>".into(),
             BindingKind::Storage { read_only: false } => "var<storage, read_write>".into(),
+            BindingKind::SampledTextureArray => "texture_2d_array<f32>".into(),
+            BindingKind::Sampler => "sampler".into(),
         }
     }
 }

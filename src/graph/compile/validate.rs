@@ -224,6 +224,8 @@ fn bind_one(desc: &FrameGraph, pass: &str, b: &BindingInfo, target: &str) -> Res
             BindingKind::Uniform { .. } => e.kind() == EngineKind::Uniform,
             BindingKind::Storage { read_only } => e.kind() == EngineKind::Storage && *read_only,
             BindingKind::StorageTexture { format, access } => e.kind() == EngineKind::Texture && *format == TexFormat::Rgba32Uint && *access == StorageAccess::Read,
+            BindingKind::SampledTextureArray => e.kind() == EngineKind::TextureArray,
+            BindingKind::Sampler => e.kind() == EngineKind::Sampler,
             _ => false,
         };
         if !ok {
