@@ -30,8 +30,13 @@ pub struct CheckArgs {
 }
 
 pub fn check(args: CheckArgs) -> Result<(), UserError> {
+    let mut textures = None;
     let features = match &args.scene {
-        Some(path) => scene::load(path)?.compile_features(),
+        Some(path) => {
+            let s = scene::load(path)?;
+            textures = crate::scene::texture_classes::describe(s.textures());
+            s.compile_features()
+        }
         None => SceneFeatures::all(),
     };
     let dir = args.shaders.clone().unwrap_or_else(|| graph::shader_dir_for(&args.file));
@@ -40,6 +45,9 @@ pub fn check(args: CheckArgs) -> Result<(), UserError> {
         out_raw!("{}", report::dot(&compiled.schedule));
     } else {
         out_raw!("{}", report::text(&compiled.schedule, args.size));
+        if let Some(t) = textures {
+            out!("scene textures: {t}");
+        }
     }
     Ok(())
 }

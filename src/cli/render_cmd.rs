@@ -252,6 +252,9 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     }
     let mem = session.graph.schedule.memory(args.size);
     out!("  textures: {} physical, {} bytes (pooling saved {} bytes)", mem.textures, mem.bytes, mem.bytes_saved);
+    if let Some(t) = crate::scene::texture_classes::describe(session.scene.scene.textures()) {
+        out!("  scene textures: {t}");
+    }
 }
 
 /// An empty scene is valid, but its image says nothing: say why it is

@@ -17,7 +17,7 @@ use super::schema::{LightDesc, ObjectDesc, SceneDesc};
 use super::validate::{self, Ctx};
 use super::world::{
     BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MaterialTextures, MeshData, MeshShape,
-    Motion, ObjectId, Scene, SphereShape, TextureImage, Transform,
+    Motion, ObjectId, Scene, SphereShape, TextureImage, TextureSlot, Transform,
 };
 use crate::error::{ron_error, UserError};
 
@@ -94,6 +94,8 @@ pub(super) struct Builder<'a, 'l> {
     /// Per material id, its textures (filled up to the last textured one).
     pub(super) material_textures: Vec<MaterialTextures>,
     pub(super) textures: Vec<TextureImage>,
+    /// Image files read for OBJ materials: (path, scene texture).
+    image_files: Vec<(PathBuf, usize)>,
     /// The glTF files' perspective cameras, placed.
     pub(super) gltf_cameras: Vec<Camera>,
     default_material: Option<u32>,
@@ -113,6 +115,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             gltf_cameras: Vec::new(),
             material_textures: Vec::new(),
             textures: Vec::new(),
+            image_files: Vec::new(),
             default_material: None,
             world: World::new(),
         }
@@ -311,6 +314,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     files.push(g.path.clone());
                     files.extend(g.file.files.iter().cloned());
                 }
+                files.extend(self.image_files.iter().map(|(p, _)| p.clone()));
                 files.dedup();
                 files
             },
@@ -428,6 +432,19 @@ impl<'a, 'l> Builder<'a, 'l> {
         if material.is_none() {
             self.materials.extend_from_slice(&file.materials);
         }
+        if material.is_none() {
+            for (k, map) in file.diffuse_maps.iter().enumerate() {
+                let Some((name, image)) = map else { continue };
+                let texture = self.image_file(image).map_err(|e| {
+                    ctx.err("path", format_args!("OBJ file {}: material \"{name}\": map_Kd {}: {e}", resolved.display(), image.display()))
+                })?;
+                let id = base as usize + k;
+                if self.material_textures.len() <= id {
+                    self.material_textures.resize(id + 1, MaterialTextures::default());
+                }
+                self.material_textures[id].base_color = Some(TextureSlot { texture, wrap: [0, 0], transform: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] });
+            }
+        }
         let mut triangles = Vec::with_capacity(file.triangles.len());
         for t in &file.triangles {
             let id = match (material, t.material) {
@@ -438,7 +455,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             triangles.push(LocalTriangle {
                 p: t.p,
                 n: t.n,
-                uv: [Vec2::ZERO; 3],
+                uv: t.uv,
                 material: id,
             });
         }
@@ -446,6 +463,17 @@ impl<'a, 'l> Builder<'a, 'l> {
         let mesh = self.meshes.len() - 1;
         self.obj_cache.push((resolved, material, mesh));
         Ok(mesh)
+    }
+
+    /// The scene texture of an image file, read once per file.
+    fn image_file(&mut self, path: &Path) -> Result<usize, String> {
+        if let Some(&(_, t)) = self.image_files.iter().find(|(p, _)| p == path) {
+            return Ok(t);
+        }
+        let bytes = std::fs::read(path).map_err(|e| format!("cannot read it: {e}"))?;
+        self.textures.push(TextureImage::decode(&bytes)?);
+        self.image_files.push((path.to_path_buf(), self.textures.len() - 1));
+        Ok(self.textures.len() - 1)
     }
 
     fn default_material(&mut self) -> u32 {

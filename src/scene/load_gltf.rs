@@ -11,7 +11,7 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 use super::gltf_file::{self, GltfFile, GltfTriangle};
 use super::load::Builder;
 use super::validate::{Ctx, MAX_RANGE};
-use super::world::{Camera, LocalTriangle, MaterialTextures, MeshData, MeshShape, ObjectId, TextureImage, TextureSlot, Transform};
+use super::world::{Camera, LocalTriangle, MaterialTextures, MeshData, MeshShape, ObjectId, TextureSlot, Transform};
 use crate::error::UserError;
 
 /// A glTF file read for this scene, and where its pieces went.
@@ -134,7 +134,7 @@ impl Builder<'_, '_> {
                     Some(t) => t,
                     None => {
                         let image = builder.gltf_cache[g].file.images[r.image].take()?;
-                        builder.textures.push(TextureImage { width: image.width, height: image.height, rgba: image.rgba });
+                        builder.textures.push(image);
                         scene_index[r.image] = Some(builder.textures.len() - 1);
                         builder.textures.len() - 1
                     }

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::gpu_types::MaterialGpu;
 
@@ -13,6 +13,9 @@ use super::gpu_types::MaterialGpu;
 pub(crate) struct ObjTriangle {
     pub p: [Vec3; 3],
     pub n: [Vec3; 3],
+    /// `vt` at the vertices, v flipped to glTF's top-left origin (zero
+    /// where the OBJ has none).
+    pub uv: [Vec2; 3],
     pub material: Option<usize>,
 }
 
@@ -20,6 +23,8 @@ pub(crate) struct ObjTriangle {
 pub(crate) struct ObjFile {
     pub triangles: Vec<ObjTriangle>,
     pub materials: Vec<MaterialGpu>,
+    /// Per material: its name and its `map_Kd` file, beside the MTL.
+    pub diffuse_maps: Vec<Option<(String, std::path::PathBuf)>>,
 }
 
 /// Reads `path`. A missing MTL library is not an error (the faces then
@@ -48,6 +53,8 @@ pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String
     if check_materials && models.iter().any(|m| m.mesh.material_id.is_none()) {
         check_usemtl(path, &materials)?;
     }
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let diffuse_maps = materials.iter().map(|m| m.diffuse_texture.as_deref().map(|t| (m.name.clone(), dir.join(map_file(t))))).collect();
     let materials = materials
         .iter()
         .map(map_material)
@@ -63,6 +70,11 @@ pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String
             data.get(i..i + 3).map(Vec3::from_slice)
         };
         let has_normals = mesh.normals.len() == mesh.positions.len();
+        let has_uvs = mesh.texcoords.len() / 2 == mesh.positions.len() / 3;
+        let uv = |i: u32| -> Vec2 {
+            let i = i as usize * 2;
+            mesh.texcoords.get(i..i + 2).filter(|_| has_uvs).map_or(Vec2::ZERO, |t| Vec2::new(t[0], 1.0 - t[1]))
+        };
         for face in mesh.indices.chunks_exact(3) {
             let mut p = [Vec3::ZERO; 3];
             let mut n = [Vec3::ZERO; 3];
@@ -97,7 +109,7 @@ pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String
             };
             // A missing or broken vertex normal falls back to the face normal.
             let n = n.map(|v| v.try_normalize().unwrap_or(flat));
-            triangles.push(ObjTriangle { p, n, material });
+            triangles.push(ObjTriangle { p, n, uv: [uv(face[0]), uv(face[1]), uv(face[2])], material });
         }
     }
     if triangles.is_empty() {
@@ -109,7 +121,19 @@ pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String
     Ok(ObjFile {
         triangles,
         materials,
+        diffuse_maps,
     })
+}
+
+/// The file a `map_Kd` line names: its last word after options (`-s 2 2 1
+/// wood.png`), else the whole of it (a name with spaces).
+fn map_file(value: &str) -> &str {
+    let value = value.trim();
+    if value.starts_with('-') {
+        value.split_whitespace().last().unwrap_or(value)
+    } else {
+        value
+    }
 }
 
 /// The first line of an OBJ that the loader's error `e` can be blamed on:

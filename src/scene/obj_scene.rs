@@ -104,4 +104,30 @@ mod tests {
         assert!(e.contains("empty.obj"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
     }
+
+    #[test]
+    fn an_mtl_map_kd_is_a_base_colour_texture() {
+        let dir = std::env::temp_dir().join(format!("glint-obj-texture-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let img = image::RgbaImage::from_raw(1, 1, vec![10, 20, 30, 255]).expect("image");
+        img.save(dir.join("wood.png")).expect("png");
+        std::fs::write(dir.join("m.mtl"), "newmtl wood\nKd 1 1 1\nmap_Kd -s 1 1 1 wood.png\nnewmtl plain\nKd 0.5 0.5 0.5\n").expect("write");
+        std::fs::write(dir.join("m.obj"), "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 0.25\nusemtl wood\nf 1/1 2/2 3/3\n").expect("write");
+        let scene = open_obj(&dir.join("m.obj")).unwrap_or_else(|e| panic!("{e}"));
+        assert!(scene.compile_features().textures);
+        assert_eq!(scene.textures().len(), 1);
+        assert_eq!(scene.textures()[0].rgba, vec![10, 20, 30, 255]);
+        let slots = scene.material_textures();
+        let wood = slots.iter().position(|m| m.base_color.is_some()).expect("a textured material");
+        assert!(slots.iter().filter(|m| m.base_color.is_some()).count() == 1, "only wood has a map_Kd");
+        let tri = scene.meshes()[0].triangles[0];
+        assert_eq!(tri.material as usize, wood);
+        // OBJ's v points up; glTF's (and glint's) down from the top.
+        assert_eq!(tri.uv, [glam::Vec2::new(0.0, 1.0), glam::Vec2::new(1.0, 1.0), glam::Vec2::new(0.0, 0.75)]);
+        // A map that is not there names the material and the file.
+        std::fs::remove_file(dir.join("wood.png")).expect("remove");
+        let e = open_obj(&dir.join("m.obj")).map(|_| ()).expect_err("a missing map_Kd loaded").to_string();
+        assert!(e.contains("material \"wood\"") && e.contains("wood.png"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -56,6 +56,24 @@ pub fn layout(textures: &[TextureImage]) -> TextureLayout {
     TextureLayout { places, layers }
 }
 
+/// What `textures` take on the GPU, in words: "N textures, B bytes (M MiB;
+/// layers per class 256: a, 512: b, ...)", or None for a scene without.
+pub fn describe(textures: &[TextureImage]) -> Option<String> {
+    if textures.is_empty() {
+        return None;
+    }
+    let l = layout(textures);
+    let bytes: u64 = CLASSES.iter().zip(l.layers).map(|(&side, layers)| u64::from(layers) * level_bytes(side)).sum();
+    let classes: Vec<String> = CLASSES.iter().zip(l.layers).filter(|(_, n)| *n > 0).map(|(side, n)| format!("{side}: {n}")).collect();
+    let n = textures.len();
+    Some(format!("{n} texture{}, {bytes} bytes ({:.1} MiB; layers per size class {})", if n == 1 { "" } else { "s" }, bytes as f64 / 1048576.0, classes.join(", ")))
+}
+
+/// Bytes of one RGBA8 layer of side `side` with its mips.
+fn level_bytes(side: u32) -> u64 {
+    (0..mip_count(side)).map(|k| 4 * u64::from(side >> k) * u64::from(side >> k)).sum()
+}
+
 /// Mip levels of a class side (down to 1x1).
 pub fn mip_count(side: u32) -> u32 {
     32 - side.leading_zeros()
@@ -181,6 +199,11 @@ mod tests {
         assert_eq!(l.slot(1), 2 << 16);
         assert_eq!(l.slot(9), NO_TEXTURE);
         assert_eq!(mip_count(256), 9);
+        // 256^2 x 4 x (1 + 1/4 + ...) = 349524 bytes a layer of 256.
+        assert_eq!(level_bytes(256), 349_524);
+        let said = describe(&textures).expect("textures");
+        assert!(said.starts_with(&format!("3 textures, {} bytes", 2 * 349_524 + level_bytes(1024))) && said.ends_with("256: 2, 1024: 1)"), "{said}");
+        assert_eq!(describe(&[]), None);
     }
 
     #[test]

@@ -85,6 +85,19 @@ pub struct TextureImage {
     pub rgba: Vec<u8>,
 }
 
+impl TextureImage {
+    /// Decodes a PNG or JPEG file's bytes.
+    pub fn decode(bytes: &[u8]) -> Result<TextureImage, String> {
+        let decoded = image::load_from_memory(bytes).map_err(|e| format!("cannot decode the image (glint reads PNG and JPEG): {e}"))?;
+        let rgba = decoded.to_rgba8();
+        let (width, height) = rgba.dimensions();
+        if width == 0 || height == 0 {
+            return Err(format!("the image is empty ({width}x{height})"));
+        }
+        Ok(TextureImage { width, height, rgba: rgba.into_raw() })
+    }
+}
+
 impl Scene {
     /// Advance `Motion` components to absolute time `t` seconds (not a
     /// delta). Returns true if anything moved.

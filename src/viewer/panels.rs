@@ -167,7 +167,7 @@ pub fn draw(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut Pane
     let mut actions = Vec::new();
     egui::ScrollArea::vertical().show(ui, |ui| {
         stats(ui, session, input, state, &mut actions);
-        scene(ui, input, state, &mut actions);
+        scene(ui, session, input, state, &mut actions);
         graphs(ui, session, state, &mut actions);
         size(ui, input, state, &mut actions);
         schedule(ui, session, input, &mut actions);
@@ -260,8 +260,11 @@ fn stats(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelSt
 }
 
 /// The scene files beside the one shown, and a field to open any other.
-fn scene(ui: &mut Ui, input: &PanelInput, state: &mut PanelState, actions: &mut Vec<Action>) {
+fn scene(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelState, actions: &mut Vec<Action>) {
     egui::CollapsingHeader::new("scene").default_open(false).show(ui, |ui| {
+        if let Some(t) = crate::scene::texture_classes::describe(session.scene.scene.textures()) {
+            ui.add(egui::Label::new(t).wrap());
+        }
         let name = |p: &std::path::Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         egui::ComboBox::from_id_salt("scene").selected_text(name(input.scene)).show_ui(ui, |ui| {
             // Only while the list is open: it reads the folder.

@@ -17,7 +17,8 @@ use glam::{DMat4, DVec3, Vec3};
 
 pub(crate) use geometry::GltfTriangle;
 pub(crate) use materials::DEFAULT as DEFAULT_MATERIAL;
-pub(crate) use textures::{Image, MaterialTextures, TextureRef, Wrap};
+pub(crate) use textures::{MaterialTextures, TextureRef, Wrap};
+use super::world::TextureImage;
 
 use super::gpu_types::MaterialGpu;
 
@@ -40,7 +41,7 @@ pub(crate) struct GltfFile {
     /// The textures each material samples, by glTF material index.
     pub material_textures: Vec<MaterialTextures>,
     /// By glTF image index: decoded where a material's texture uses it.
-    pub images: Vec<Option<Image>>,
+    pub images: Vec<Option<TextureImage>>,
     /// Each placement of a mesh, in node order.
     pub instances: Vec<Instance>,
     pub lights: Vec<PointLight>,

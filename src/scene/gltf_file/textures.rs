@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::buffers;
+use crate::scene::world::TextureImage;
 
 /// How a texture coordinate outside 0..1 reads the image (glTF sampler).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,13 +35,6 @@ pub(crate) struct MaterialTextures {
     pub emissive: Option<TextureRef>,
 }
 
-/// A decoded image: `width x height` RGBA8 texels, rows top first.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub rgba: Vec<u8>,
-}
 
 /// The slots of material `m` (`at`: its glTF path).
 pub(crate) fn material_textures(m: &gltf::Material, at: &str) -> Result<MaterialTextures, String> {
@@ -78,7 +72,7 @@ fn texture_ref(info: &gltf::texture::Info, at: &str) -> Result<TextureRef, Strin
 }
 
 /// Decodes image `index` of `doc`; a file it names is pushed on `files`.
-pub(crate) fn decode(doc: &gltf::Document, index: usize, buffers: &[Vec<u8>], dir: &Path, files: &mut Vec<PathBuf>) -> Result<Image, String> {
+pub(crate) fn decode(doc: &gltf::Document, index: usize, buffers: &[Vec<u8>], dir: &Path, files: &mut Vec<PathBuf>) -> Result<TextureImage, String> {
     let at = format!("images[{index}]");
     let image = doc.images().nth(index).ok_or_else(|| format!("{at}: missing"))?;
     let bytes: Vec<u8> = match image.source() {
@@ -97,11 +91,5 @@ pub(crate) fn decode(doc: &gltf::Document, index: usize, buffers: &[Vec<u8>], di
             }
         },
     };
-    let decoded = image::load_from_memory(&bytes).map_err(|e| format!("{at}: cannot decode the image (glint reads PNG and JPEG): {e}"))?;
-    let rgba = decoded.to_rgba8();
-    let (width, height) = rgba.dimensions();
-    if width == 0 || height == 0 {
-        return Err(format!("{at}: the image is empty ({width}x{height})"));
-    }
-    Ok(Image { width, height, rgba: rgba.into_raw() })
+    TextureImage::decode(&bytes).map_err(|e| format!("{at}: {e}"))
 }
