@@ -63,7 +63,7 @@ fn wgsl_structs_match_rust() {
     check!("TriangleNormals", TriangleNormalsGpu, [n0, n1, n2]);
     check!("Mesh", MeshGpu, [bmin, first, bmax, count]);
     check!("Material", MaterialGpu, [albedo, specular, emission, roughness]);
-    check!("Light", LightGpu, [position, radius, color, kind]);
+    check!("Light", LightGpu, [position, radius, color, kind, spot]);
     // Structs the shaders read as whole vec4s: each WGSL member holds the
     // Rust fields at the given byte offsets into it (a vec3 at 0, then w at 12).
     packed(m, "Sphere", size_of::<SphereGpu>(), &[

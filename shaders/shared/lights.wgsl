@@ -32,7 +32,7 @@ fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
         }
         s.dir = axis;
         s.dist = d - l.radius;
-        s.weight = l.color / (d * d);
+        s.weight = l.color * spot_factor(l, -axis) / (d * d);
         s.valid = true;
         return s;
     }
@@ -99,7 +99,7 @@ fn sample_irradiance(l: Light, p: vec3f, s: LightSample, cos_n: f32, falloff: u3
 // Sphere light `l` as the far-field point light the raster-style point
 // mode shades: intensity L pi r^2 at its centre.
 fn sphere_as_point(l: Light) -> Light {
-    return Light(l.position, l.radius, l.color * PI * l.radius * l.radius, LIGHT_POINT);
+    return Light(l.position, l.radius, l.color * PI * l.radius * l.radius, LIGHT_POINT, vec4f(0.0, 0.0, 0.0, 1.0));
 }
 
 // The mean over `count` samples (0 counts as 1) of L cos / pdf (or

@@ -109,7 +109,7 @@ fn light_point_of(s: Surface, l: Light, oct: vec2f) -> LightPoint {
         out.shadow_tmax = (d - l.radius) * (1.0 - 1e-4);
         let cos_s = dot(s.n, out.dir);
         if cos_s > 0.0 && dot(out.dir, s.ng) > 0.0 {
-            out.light = l.color * cos_s / d2;
+            out.light = l.color * spot_factor(l, -out.dir) * cos_s / d2;
         }
         return out;
     }

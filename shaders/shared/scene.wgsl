@@ -54,6 +54,22 @@ struct Light {
     radius: f32,
     color: vec3f,
     kind: u32,
+    // A spot light's cone: its factor is clamp(dot(spot.xyz, d) + spot.w,
+    // 0, 1)^2 for the unit direction d from the light (src/scene/world.rs,
+    // SpotCone); (0, 0, 0, 1) for every other light.
+    spot: vec4f,
+}
+
+// Whether some point light has a cone (a spot light).
+override SCENE_SPOT_LIGHTS: bool = true;
+
+// How much of a point light's intensity leaves it along unit direction d.
+fn spot_factor(l: Light, d: vec3f) -> f32 {
+    if !SCENE_SPOT_LIGHTS {
+        return 1.0;
+    }
+    let x = clamp(dot(l.spot.xyz, d) + l.spot.w, 0.0, 1.0);
+    return x * x;
 }
 
 @group(1) @binding(1) var scene_spheres: texture_storage_2d<rgba32uint, read>;
@@ -149,9 +165,13 @@ fn light_count() -> u32 {
 // Light i, its kind a constant where the scene has lights of one kind
 // (the other kind's code folds away).
 fn load_light(i: u32) -> Light {
-    let a = bitcast<vec4f>(scene_texel(scene_lights, 2u * i));
-    let b = scene_texel(scene_lights, 2u * i + 1u);
-    var l = Light(a.xyz, a.w, bitcast<vec3f>(b.xyz), b.w);
+    let a = bitcast<vec4f>(scene_texel(scene_lights, 3u * i));
+    let b = scene_texel(scene_lights, 3u * i + 1u);
+    var spot = vec4f(0.0, 0.0, 0.0, 1.0);
+    if SCENE_SPOT_LIGHTS {
+        spot = bitcast<vec4f>(scene_texel(scene_lights, 3u * i + 2u));
+    }
+    var l = Light(a.xyz, a.w, bitcast<vec3f>(b.xyz), b.w, spot);
     if !SCENE_POINT_LIGHTS {
         l.kind = LIGHT_SPHERE;
     } else if !SCENE_AREA_LIGHTS {

@@ -62,6 +62,8 @@ pub struct SceneFeatures {
     pub motion: bool,
     /// Some surface samples a texture (base colour or emission).
     pub textures: bool,
+    /// Some point light has a cone.
+    pub spot_lights: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
     pub lights: u32,
     /// Rays test every primitive instead of walking a BVH (at most
@@ -88,6 +90,7 @@ impl SceneFeatures {
             emissive: true,
             motion: true,
             textures: true,
+            spot_lights: true,
             lights: u32::MAX,
             flat: false,
             enclosing_lights: true,

@@ -79,7 +79,7 @@ mod tests {
     #[test]
     fn the_last_lights_sphere() {
         use crate::scene::{LightGpu, LIGHT_POINT, LIGHT_SPHERE};
-        let light = |kind| LightGpu { position: [0.0; 3], radius: 0.1, color: [1.0; 3], kind };
+        let light = |kind| LightGpu { position: [0.0; 3], radius: 0.1, color: [1.0; 3], kind, spot: [0.0, 0.0, 0.0, 1.0] };
         let lit = |light: i32| SphereGpu { light, ..sphere(1.0) };
         let data = |lights: Vec<LightGpu>, spheres: Vec<SphereGpu>| SceneData { lights, spheres, ..Default::default() };
         assert_eq!(data(vec![], vec![sphere(1.0)]).last_light_sphere(), None);

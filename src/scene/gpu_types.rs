@@ -110,6 +110,8 @@ pub struct LightGpu {
     pub color: [f32; 3],
     /// `LIGHT_POINT` or `LIGHT_SPHERE`.
     pub kind: u32,
+    /// A spot light's cone (`SpotCone::gpu`); (0, 0, 0, 1) for no cone.
+    pub spot: [f32; 4],
 }
 
 /// `struct TriangleUv` (32 bytes): the texture coordinates of the

@@ -17,7 +17,7 @@ use super::schema::{LightDesc, ObjectDesc, SceneDesc};
 use super::validate::{self, Ctx};
 use super::world::{
     BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MaterialTextures, MeshData, MeshShape,
-    Motion, ObjectId, Scene, SphereShape, TextureImage, TextureSlot, Transform,
+    Motion, ObjectId, Scene, SphereShape, SpotCone, TextureImage, TextureSlot, Transform,
 };
 use crate::error::{ron_error, UserError};
 
@@ -88,9 +88,9 @@ pub(super) struct Builder<'a, 'l> {
     obj_cache: Vec<(PathBuf, Option<u32>, usize)>,
     /// glTF files already read, in the order first met.
     pub(super) gltf_cache: Vec<GltfLoaded>,
-    /// Point lights that glTF files place (position, intensity, which
-    /// object placed them), spawned after the scene's own lights.
-    pub(super) gltf_lights: Vec<(DVec3, Vec3, usize)>,
+    /// Point lights that glTF files place (position, intensity, a spot
+    /// light's cone), spawned after the scene's own lights.
+    pub(super) gltf_lights: Vec<(DVec3, Vec3, Option<SpotCone>)>,
     /// Per material id, its textures (filled up to the last textured one).
     pub(super) material_textures: Vec<MaterialTextures>,
     pub(super) textures: Vec<TextureImage>,
@@ -262,8 +262,17 @@ impl<'a, 'l> Builder<'a, 'l> {
                     features.point_lights = true;
                     DVec3::from_array(position)
                 }
+                LightDesc::SpotLight { position, direction, intensity, inner_deg, outer_deg, .. } => {
+                    e.add(Light::Point { intensity: Vec3::from_array(intensity) });
+                    let cone = validate::spot_cone(Vec3::from_array(direction), inner_deg.to_radians(), outer_deg.to_radians())
+                        .ok_or_else(|| ctx.err("outer_deg", "not a cone"))?;
+                    e.add(cone);
+                    features.point_lights = true;
+                    features.spot_lights = true;
+                    DVec3::from_array(position)
+                }
             };
-            let field = if matches!(l, LightDesc::PointLight { .. }) { "position" } else { "center" };
+            let field = if matches!(l, LightDesc::SphereLight { .. }) { "center" } else { "position" };
             ctx.near(field, translation, DVec3::from_array(desc.camera.position))?;
             if let LightDesc::SphereLight { radius, .. } = l {
                 ctx.resolvable(translation, *radius, DVec3::from_array(desc.camera.position))?;
@@ -278,14 +287,18 @@ impl<'a, 'l> Builder<'a, 'l> {
         }
 
         let gltf_lights = std::mem::take(&mut self.gltf_lights);
-        for (k, &(position, intensity, _)) in gltf_lights.iter().enumerate() {
+        for (k, &(position, intensity, spot)) in gltf_lights.iter().enumerate() {
             let j = desc.lights.len() + k;
-            self.world.spawn((
+            let e = self.world.spawn((
                 ObjectId((desc.objects.len() + j) as u32),
                 LightIndex(j as u32),
                 Light::Point { intensity },
                 Transform::from_translation(position),
             ));
+            if let Some(cone) = spot {
+                let _ = self.world.insert_one(e, cone);
+                features.spot_lights = true;
+            }
             features.point_lights = true;
         }
         let (specular, emissive) = self.used_material_features();

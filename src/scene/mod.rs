@@ -40,5 +40,5 @@ pub use gpu_types::*;
 pub use load::{load, opens, parse, SCENE_EXTENSIONS};
 pub use world::{
     animate, BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MaterialTextures, MeshData, MeshShape,
-    Motion, ObjectId, Scene, SphereShape, TextureImage, TextureSlot, Transform,
+    Motion, ObjectId, Scene, SphereShape, SpotCone, TextureImage, TextureSlot, Transform,
 };

@@ -12,7 +12,7 @@ use super::gpu_types::{
 };
 use super::texture_classes;
 use super::world::{
-    Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, Transform,
+    Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, SpotCone, Transform,
 };
 
 impl Scene {
@@ -45,8 +45,9 @@ impl Scene {
             &Transform,
             &Light,
             Option<&MaterialId>,
+            Option<&SpotCone>,
         )>();
-        for (id, index, t, light, material) in query.iter() {
+        for (id, index, t, light, material, spot) in query.iter() {
             let p = at(t);
             let (gpu, ball) = match (*light, material) {
                 (Light::Sphere { radius, radiance }, Some(m)) => (
@@ -59,7 +60,8 @@ impl Scene {
                     (light_gpu(p, radius, radiance, LIGHT_SPHERE), None)
                 }
                 (Light::Point { intensity }, _) => {
-                    (light_gpu(p, 0.0, intensity, LIGHT_POINT), None)
+                    let spot = spot.map_or(NO_SPOT, SpotCone::gpu);
+                    (LightGpu { spot, ..light_gpu(p, 0.0, intensity, LIGHT_POINT) }, None)
                 }
             };
             lights.push((*index, *id, gpu, ball));
@@ -307,5 +309,9 @@ fn light_gpu(position: Vec3, radius: f32, color: Vec3, kind: u32) -> LightGpu {
         radius,
         color: color.into(),
         kind,
+        spot: NO_SPOT,
     }
 }
+
+/// The spot factor of a light without a cone: 1 everywhere.
+const NO_SPOT: [f32; 4] = [0.0, 0.0, 0.0, 1.0];

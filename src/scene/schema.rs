@@ -133,6 +133,23 @@ pub(crate) enum LightDesc {
         #[serde(default)]
         motion: Option<MotionDesc>,
     },
+    /// A point light with a cone: full intensity within `inner_deg` of
+    /// `direction`, none beyond `outer_deg` (glTF's smooth step between).
+    SpotLight {
+        position: P3,
+        direction: V3,
+        intensity: V3,
+        #[serde(default)]
+        inner_deg: f32,
+        #[serde(default = "outer_deg")]
+        outer_deg: f32,
+        #[serde(default)]
+        motion: Option<MotionDesc>,
+    },
+}
+
+fn outer_deg() -> f32 {
+    45.0
 }
 
 impl LightDesc {
@@ -140,12 +157,13 @@ impl LightDesc {
         match self {
             LightDesc::SphereLight { .. } => "SphereLight",
             LightDesc::PointLight { .. } => "PointLight",
+            LightDesc::SpotLight { .. } => "SpotLight",
         }
     }
 
     pub(crate) fn motion(&self) -> Option<&MotionDesc> {
         match self {
-            LightDesc::SphereLight { motion, .. } | LightDesc::PointLight { motion, .. } => {
+            LightDesc::SphereLight { motion, .. } | LightDesc::PointLight { motion, .. } | LightDesc::SpotLight { motion, .. } => {
                 motion.as_ref()
             }
         }

@@ -46,9 +46,11 @@ pub const SCENE_ONE_LIGHT: &str = "SCENE_ONE_LIGHT";
 pub const SCENE_INSIDE_LIGHTS: &str = "SCENE_INSIDE_LIGHTS";
 /// Whether some surface samples a texture (shared/textures.wgsl).
 pub const SCENE_TEXTURES: &str = "SCENE_TEXTURES";
+/// Whether some point light has a cone (shared/scene.wgsl, spot_factor).
+pub const SCENE_SPOT_LIGHTS: &str = "SCENE_SPOT_LIGHTS";
 
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 8] = [
+pub const GENERIC: [(&str, bool); 9] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -57,6 +59,7 @@ pub const GENERIC: [(&str, bool); 8] = [
     (SCENE_ONE_LIGHT, false),
     (SCENE_INSIDE_LIGHTS, true),
     (SCENE_TEXTURES, true),
+    (SCENE_SPOT_LIGHTS, true),
 ];
 
 /// The specialisations for a scene with `f`: only the constants that
@@ -92,6 +95,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     if !f.textures {
         out.push(Specialisation { constant: SCENE_TEXTURES, value: false, reason: "no textures: texture sampling compiled out" });
     }
+    if !f.spot_lights {
+        out.push(Specialisation { constant: SCENE_SPOT_LIGHTS, value: false, reason: "no spot lights: cones compiled out" });
+    }
     out
 }
 
@@ -115,16 +121,16 @@ mod tests {
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false)]);
         // One that may hold a surface or the camera keeps sampling from inside.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false)]);
     }
 
     #[test]

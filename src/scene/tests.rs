@@ -195,7 +195,8 @@ fn cornell_packs_quads_spheres_and_the_light() {
             position: [0.0, 0.75, 0.0],
             radius: 0.15,
             color: [10.0; 3],
-            kind: LIGHT_SPHERE
+            kind: LIGHT_SPHERE,
+            spot: [0.0, 0.0, 0.0, 1.0],
         }
     );
 

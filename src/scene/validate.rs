@@ -5,7 +5,7 @@ use glam::{DVec3, Vec3};
 
 use super::locate::{Locator, Step};
 use super::schema::{CameraDesc, LightDesc, MaterialDesc, MotionDesc, ObjectDesc, P3, V3};
-use super::world::Motion;
+use super::world::{Motion, SpotCone};
 use crate::error::UserError;
 
 type Res<T> = Result<T, UserError>;
@@ -284,8 +284,27 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
             ctx.place("position", *position)?;
             ctx.color("intensity", *intensity)?;
         }
+        LightDesc::SpotLight { position, direction, intensity, inner_deg, outer_deg, .. } => {
+            ctx.place("position", *position)?;
+            ctx.color("intensity", *intensity)?;
+            let d = ctx.finite("direction", *direction)?;
+            if d.length_squared() == 0.0 {
+                return Err(ctx.err("direction", "`direction` is (0, 0, 0); give the way the cone points"));
+            }
+            if !(inner_deg.is_finite() && outer_deg.is_finite() && 0.0 <= *inner_deg && inner_deg < outer_deg && *outer_deg <= 90.0) {
+                return Err(ctx.err("outer_deg", format_args!("the cone needs 0 <= inner_deg < outer_deg <= 90, got {inner_deg} and {outer_deg}")));
+            }
+        }
     }
     Ok(())
+}
+
+/// The cone of a spot light pointing along `direction` (any length) with
+/// these half angles in radians; None where they do not make a cone
+/// (checked before: `light`, and the glTF reader).
+pub(crate) fn spot_cone(direction: Vec3, inner: f32, outer: f32) -> Option<SpotCone> {
+    let direction = direction.try_normalize()?;
+    (0.0 <= inner && inner < outer && outer <= std::f32::consts::FRAC_PI_2).then(|| SpotCone { direction, cos_inner: inner.cos(), cos_outer: outer.cos() })
 }
 
 /// Checks a `motion:` and converts it.

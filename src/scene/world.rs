@@ -252,6 +252,30 @@ pub enum Light {
     },
 }
 
+/// A point light's cone (a spot light): full intensity within
+/// `cos_inner` of `direction`, none beyond `cos_outer`, and between them
+/// glTF's smooth step (KHR_lights_punctual): clamp((cos - cos_outer) /
+/// (cos_inner - cos_outer), 0, 1) squared.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpotCone {
+    /// Where the cone points (unit, world).
+    pub direction: Vec3,
+    /// Cosine of the inner angle.
+    pub cos_inner: f32,
+    /// Cosine of the outer angle (below `cos_inner`).
+    pub cos_outer: f32,
+}
+
+impl SpotCone {
+    /// (axis, offset) as the GPU takes them: the factor is clamp(axis . d
+    /// + offset, 0, 1)^2 for the unit direction d from the light.
+    pub fn gpu(&self) -> [f32; 4] {
+        let scale = 1.0 / (self.cos_inner - self.cos_outer).max(1e-3);
+        let a = self.direction * scale;
+        [a.x, a.y, a.z, -self.cos_outer * scale]
+    }
+}
+
 /// Where `Linear` motion starts (the position written in the file).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BasePosition(pub DVec3);

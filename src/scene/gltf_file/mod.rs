@@ -59,11 +59,13 @@ pub(crate) struct Instance {
     pub matrix: DMat4,
 }
 
-/// A `KHR_lights_punctual` point light in glint's units (W/sr).
+/// A `KHR_lights_punctual` point or spot light in glint's units (W/sr).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct PointLight {
     pub position: DVec3,
     pub intensity: Vec3,
+    /// A spot light's cone (its direction in the file's world).
+    pub spot: Option<super::world::SpotCone>,
 }
 
 /// A perspective camera placed by a node.

@@ -59,7 +59,7 @@ pub(crate) fn walk(doc: &gltf::Document) -> Result<Placed, String> {
     }
     let nodes: Vec<gltf::Node> = doc.nodes().collect();
     let mut placed = Placed { instances: Vec::new(), lights: Vec::new(), cameras: Vec::new(), warnings: Vec::new() };
-    let (mut spots, mut directionals, mut orthographic, mut skinned) = (0, 0, 0, 0);
+    let (mut directionals, mut orthographic, mut skinned) = (0, 0, 0);
     let mut stack: Vec<(usize, DMat4)> = roots.iter().rev().map(|&r| (r, DMat4::IDENTITY)).collect();
     while let Some((i, parent_matrix)) = stack.pop() {
         let node = &nodes[i];
@@ -75,7 +75,13 @@ pub(crate) fn walk(doc: &gltf::Document) -> Result<Placed, String> {
             let at = format!("extensions.KHR_lights_punctual.lights[{}]", light.index());
             match light.kind() {
                 Kind::Point => placed.lights.push(point_light(&light, world, &at)?),
-                Kind::Spot { .. } => spots += 1,
+                Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+                    let direction = world.transform_vector3(DVec3::NEG_Z).as_vec3();
+                    let spot = crate::scene::validate::spot_cone(direction, inner_cone_angle, outer_cone_angle).ok_or_else(|| {
+                        format!("{at}.spot: the cone needs 0 <= innerConeAngle < outerConeAngle <= pi/2, got {inner_cone_angle} and {outer_cone_angle} (or the node collapses its direction)")
+                    })?;
+                    placed.lights.push(PointLight { spot: Some(spot), ..point_light(&light, world, &at)? });
+                }
                 Kind::Directional => directionals += 1,
             }
         }
@@ -106,8 +112,7 @@ pub(crate) fn walk(doc: &gltf::Document) -> Result<Placed, String> {
             placed.warnings.push(format!("{n} {what}"));
         }
     };
-    say(spots, "spot light(s) not rendered: glint has point and sphere lights only so far");
-    say(directionals, "directional light(s) not rendered: glint has point and sphere lights only so far");
+    say(directionals, "directional light(s) not rendered: glint has point, spot and sphere lights only so far");
     say(orthographic, "orthographic camera(s) skipped: glint's cameras are perspective");
     say(skinned, "skinned mesh instance(s) shown unskinned, in their mesh's own pose");
     Ok(placed)
@@ -143,5 +148,5 @@ fn point_light(light: &gltf::khr_lights_punctual::Light, world: DMat4, at: &str)
     if !(candela.is_finite() && candela >= 0.0) {
         return Err(format!("{at}.intensity: {candela} is not a finite value >= 0"));
     }
-    Ok(PointLight { position: world.transform_point3(DVec3::ZERO), intensity: color * (candela / LUMENS_PER_WATT) })
+    Ok(PointLight { position: world.transform_point3(DVec3::ZERO), intensity: color * (candela / LUMENS_PER_WATT), spot: None })
 }

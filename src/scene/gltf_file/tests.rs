@@ -157,12 +157,15 @@ fn strips_normals_lights_cameras_and_materials_convert() {
     assert_eq!(f.meshes[0].len(), 2, "a strip of four vertices is two triangles");
     assert!(f.meshes[0].iter().all(|t| t.n == [Vec3::Z; 3]), "both face +z: the strip's second triangle turns back");
     assert_eq!(f.materials, vec![MaterialGpu { albedo: [0.5, 0.25, 1.0], specular: 0.25, emission: [4.0, 2.0, 0.0], roughness: 0.75 }]);
-    assert_eq!(f.lights, vec![PointLight { position: DVec3::new(0.0, 3.0, 0.0), intensity: Vec3::new(1.0, 0.5, 0.25) }], "683 cd is 1 W/sr");
+    assert_eq!(f.lights[0], PointLight { position: DVec3::new(0.0, 3.0, 0.0), intensity: Vec3::new(1.0, 0.5, 0.25), spot: None }, "683 cd is 1 W/sr");
+    // The spot light: glTF's default cone (0 to pi/4) down the node's -z.
+    let spot = f.lights[1].spot.expect("a cone");
+    assert_eq!(spot.direction, Vec3::NEG_Z);
+    assert!((spot.cos_inner - 1.0).abs() < 1e-6 && (spot.cos_outer - std::f32::consts::FRAC_PI_4.cos()).abs() < 1e-6, "{spot:?}");
     let c = f.cameras[0];
     assert_eq!((c.position, c.target), (DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, 4.0)), "a glTF camera looks down -z");
     assert!((c.vfov_deg - 0.5f64.to_degrees()).abs() < 1e-6);
     let warnings = f.warnings.join("\n");
-    assert!(warnings.contains("1 spot light"), "{warnings}");
     assert!(warnings.contains("EXT_other") && !warnings.contains("KHR_lights_punctual"), "{warnings}");
 }
 

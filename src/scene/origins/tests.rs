@@ -15,7 +15,7 @@ fn sphere(center: [f32; 3], radius: f32) -> SphereGpu {
 }
 
 fn light(position: [f32; 3], radius: f32) -> LightGpu {
-    LightGpu { position, radius, color: [1.0; 3], kind: 1 }
+    LightGpu { position, radius, color: [1.0; 3], kind: 1, spot: [0.0, 0.0, 0.0, 1.0] }
 }
 
 fn view(camera: [f32; 3]) -> Viewpoints {
