@@ -119,6 +119,8 @@ impl ObjectDesc {
 
 #[derive(Debug, Deserialize)]
 #[serde(rename = "Light", deny_unknown_fields)]
+// The variants are the names scene files write.
+#[allow(clippy::enum_variant_names)]
 pub(crate) enum LightDesc {
     SphereLight {
         center: P3,
