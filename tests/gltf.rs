@@ -121,8 +121,15 @@ fn camera_n_picks_a_gltf_camera() {
 /// 0..`span` from the top left, its base colour a 2x2 image (red, green
 /// over blue, white) read with `wrap` (glTF's code for s and t).
 fn textured_quad(dir: &std::path::Path, span: f32, wrap: u32) -> std::path::PathBuf {
+    textured_quad_with(dir, span, wrap, [255; 4], "")
+}
+
+/// `textured_quad` with the image's alphas (red, green, blue, white) and
+/// more of the material (`, "alphaMode": "MASK"`).
+fn textured_quad_with(dir: &std::path::Path, span: f32, wrap: u32, alpha: [u8; 4], material: &str) -> std::path::PathBuf {
     use base64::Engine as _;
-    let img = image::RgbaImage::from_raw(2, 2, vec![255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255]).expect("image");
+    let [a0, a1, a2, a3] = alpha;
+    let img = image::RgbaImage::from_raw(2, 2, vec![255, 0, 0, a0, 0, 255, 0, a1, 0, 0, 255, a2, 255, 255, 255, a3]).expect("image");
     let mut png = std::io::Cursor::new(Vec::new());
     img.write_to(&mut png, image::ImageFormat::Png).expect("encode");
     let pos: [[f32; 3]; 4] = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]];
@@ -133,7 +140,7 @@ fn textured_quad(dir: &std::path::Path, span: f32, wrap: u32) -> std::path::Path
     let gltf = format!(
         r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
   "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0}}]}}],
-  "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}, "metallicFactor": 0}}}}],
+  "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}, "metallicFactor": 0}}{material}}}],
   "samplers": [{{"wrapS": {wrap}, "wrapT": {wrap}}}], "textures": [{{"source": 0, "sampler": 0}}],
   "images": [{{"uri": "data:image/png;base64,{}"}}],
   "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]}},
@@ -144,7 +151,7 @@ fn textured_quad(dir: &std::path::Path, span: f32, wrap: u32) -> std::path::Path
         blob.len(),
         b64(&blob)
     );
-    let name = format!("quad-{span}-{wrap}");
+    let name = format!("quad-{span}-{wrap}-{}", alpha.iter().map(|a| a.to_string()).collect::<Vec<_>>().join("-"));
     std::fs::write(dir.join(format!("{name}.gltf")), gltf).expect("write");
     let scene = dir.join(format!("{name}.ron"));
     let vfov = 2.0 * 0.5f64.atan().to_degrees();
@@ -193,4 +200,25 @@ fn textures_show_where_their_uvs_and_wrap_modes_say() {
     assert_eq!(code, 0, "{stderr}");
     let got = glint::image_io::load(&out).expect("read").get(20, 2);
     assert!(got[1] > 0.9 && got[0] < 0.1, "mirrored, u = 1.28 reads u = 0.72 (green): {got:?}");
+}
+
+#[test]
+fn alpha_mask_lets_rays_through_where_alpha_is_below_the_cutoff() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("gltf-alpha");
+    // Red (alpha 0.2) and green (0.8) over blue (0.4) and white (1): with
+    // a cutoff of 0.5 red and blue are holes; the camera sees the black
+    // background through them.
+    let scene = textured_quad_with(&dir, 1.0, 10497, [51, 204, 102, 255], r#", "alphaMode": "MASK", "alphaCutoff": 0.5"#);
+    let out = dir.join("albedo.exr");
+    let (code, stderr) = glint(&["render", scene.to_str().expect("utf-8"), "--graph", "passes/direct.ron", "--output", "albedo", "--size", "32x32", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, 0, "{stderr}");
+    let img = glint::image_io::load(&out).expect("read");
+    for ((x, y), want) in [((8, 8), [0.0; 3]), ((24, 8), [0.0, 1.0, 0.0]), ((8, 24), [0.0; 3]), ((24, 24), [1.0; 3])] {
+        let got = img.get(x, y);
+        let off = (0..3).map(|k| (got[k] - want[k]).abs()).fold(0.0f32, f32::max);
+        assert!(off < 0.1, "pixel ({x}, {y}) is {got:?}, want {want:?}");
+    }
 }

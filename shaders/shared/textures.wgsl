@@ -8,6 +8,9 @@
 #import scene
 
 override SCENE_TEXTURES: bool = true;
+// Some material is alpha-tested (alphaMode MASK): traversal asks
+// alpha_passes of each triangle it would take.
+override SCENE_ALPHA_MASK: bool = true;
 
 @group(1) @binding(14) var scene_uvs: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(15) var scene_material_textures: texture_storage_2d<rgba32uint, read>;
@@ -120,4 +123,29 @@ fn gbuffer_material(ids: vec4u, pos: vec4f) -> Material {
     }
     let rd = normalize(pos.xyz - frame.camera.origin);
     return material_at(ids.x, ids.w, pos.xyz, rd, pos.w * pixel_spread());
+}
+
+// Whether triangle `prim` of `material` is there at barycentrics `bary`
+// (alphaMode MASK): the base colour texture's alpha, read at its finest
+// level (traversal has no ray cone), against the material's threshold
+// (the cutoff over the factor's alpha; 0 for an opaque material).
+fn alpha_passes(material: u32, prim: u32, bary: vec2f) -> bool {
+    if !SCENE_ALPHA_MASK {
+        return true;
+    }
+    let slots = scene_texel(scene_material_textures, 5u * material);
+    let threshold = bitcast<f32>(slots.w);
+    if threshold <= 0.0 {
+        return true;
+    }
+    if slots.x == NO_TEXTURE {
+        return threshold <= 1.0;
+    }
+    let t01 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim));
+    let t2 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim + 1u)).xy;
+    let uv = (1.0 - bary.x - bary.y) * t01.xy + bary.x * t01.zw + bary.y * t2;
+    let u = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * material + 1u));
+    let v = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * material + 2u));
+    let t = transform_uv(u, v, uv);
+    return sample_slot(slots.x, t.xy, vec2u(slots.z & 3u, (slots.z >> 2u) & 3u), -24.0).a >= threshold;
 }

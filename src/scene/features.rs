@@ -64,6 +64,8 @@ pub struct SceneFeatures {
     pub textures: bool,
     /// Some point light has a cone.
     pub spot_lights: bool,
+    /// Some material is alpha-tested (alphaMode MASK).
+    pub alpha_mask: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
     pub lights: u32,
     /// Rays test every primitive instead of walking a BVH (at most
@@ -91,6 +93,7 @@ impl SceneFeatures {
             motion: true,
             textures: true,
             spot_lights: true,
+            alpha_mask: true,
             lights: u32::MAX,
             flat: false,
             enclosing_lights: true,

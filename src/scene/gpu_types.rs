@@ -142,8 +142,9 @@ pub struct MaterialTexturesGpu {
     pub emissive: u32,
     /// Wrap modes.
     pub wrap: u32,
-    /// Padding; zero.
-    pub _pad: u32,
+    /// alphaMode MASK: the surface is there where the base colour
+    /// texture's alpha (1 without one) is at least this; 0 for opaque.
+    pub alpha_threshold: f32,
     /// Base colour uv transform, row 0 (w unused).
     pub base_u: [f32; 4],
     /// Row 1.
@@ -157,7 +158,7 @@ pub struct MaterialTexturesGpu {
 impl Default for MaterialTexturesGpu {
     fn default() -> Self {
         let (u, v) = ([1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]);
-        MaterialTexturesGpu { base: u32::MAX, emissive: u32::MAX, wrap: 0, _pad: 0, base_u: u, base_v: v, emissive_u: u, emissive_v: v }
+        MaterialTexturesGpu { base: u32::MAX, emissive: u32::MAX, wrap: 0, alpha_threshold: 0.0, base_u: u, base_v: v, emissive_u: u, emissive_v: v }
     }
 }
 
@@ -199,7 +200,14 @@ impl SceneData {
     /// Whether rays test every primitive instead of walking the BVH
     /// (`FLAT_LIMIT`).
     pub fn is_flat(&self) -> bool {
-        self.spheres.len() + self.triangles.len() <= FLAT_LIMIT
+        self.spheres.len() + self.triangles.len() <= FLAT_LIMIT && !self.alpha_masked()
+    }
+
+    /// Whether some material is alpha-tested (alphaMode MASK): its
+    /// triangles are tested where traversal meets them, which the flat
+    /// loops do not do.
+    pub fn alpha_masked(&self) -> bool {
+        self.material_textures.iter().any(|m| m.alpha_threshold > 0.0)
     }
 
     /// Whether the triangles come in pairs 2k, 2k + 1 that share an edge

@@ -147,7 +147,7 @@ impl Builder<'_, '_> {
                 });
                 Some(TextureSlot { texture, wrap, transform: r.transform })
             };
-            let textures = MaterialTextures { base_color: slot(mt.base_color, self), emissive: slot(mt.emissive, self) };
+            let textures = MaterialTextures { base_color: slot(mt.base_color, self), emissive: slot(mt.emissive, self), alpha_mask: mt.alpha_mask };
             if textures != MaterialTextures::default() {
                 let id = base + k;
                 if self.material_textures.len() <= id {

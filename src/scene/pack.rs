@@ -217,7 +217,7 @@ impl Scene {
     /// Whether `pack` gives a flat scene (`SceneData::is_flat`), counted
     /// without packing.
     pub fn is_flat(&self) -> bool {
-        self.sphere_count() + self.triangle_count() <= FLAT_LIMIT
+        self.sphere_count() + self.triangle_count() <= FLAT_LIMIT && !self.features.alpha_mask
     }
 
     /// What a graph is compiled for: the features found at load, with
@@ -271,6 +271,11 @@ impl Scene {
                 gpu.base = layout.slot(s.texture);
                 gpu.wrap |= s.wrap[0] | (s.wrap[1] << 2);
                 (gpu.base_u, gpu.base_v) = (row(s.transform[0]), row(s.transform[1]));
+            }
+            if let Some((cutoff, factor)) = m.alpha_mask {
+                // factor x texture >= cutoff, as texture >= cutoff / factor
+                // (above 1: never there).
+                gpu.alpha_threshold = if factor > 0.0 { cutoff / factor } else { 2.0 };
             }
             if let Some(s) = m.emissive {
                 gpu.emissive = layout.slot(s.texture);

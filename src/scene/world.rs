@@ -60,6 +60,9 @@ pub struct MaterialTextures {
     pub base_color: Option<TextureSlot>,
     /// Emission (multiplies the emission), sRGB.
     pub emissive: Option<TextureSlot>,
+    /// alphaMode MASK: (cutoff, the base colour factor's alpha); the
+    /// surface is there where factor x texture alpha >= cutoff.
+    pub alpha_mask: Option<(f32, f32)>,
 }
 
 /// One texture of a material.

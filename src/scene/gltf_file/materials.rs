@@ -43,23 +43,19 @@ pub(crate) fn convert(m: &gltf::Material) -> Result<MaterialGpu, String> {
 /// (empty when nothing is left out).
 pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
     let mut textured = 0;
-    let (mut mask, mut blend) = (0, 0);
+    let mut blend = 0;
     for m in doc.materials() {
         let pbr = m.pbr_metallic_roughness();
         let any = pbr.metallic_roughness_texture().is_some() || m.normal_texture().is_some() || m.occlusion_texture().is_some();
         textured += usize::from(any);
-        match m.alpha_mode() {
-            gltf::material::AlphaMode::Mask => mask += 1,
-            gltf::material::AlphaMode::Blend => blend += 1,
-            gltf::material::AlphaMode::Opaque => {}
-        }
+        blend += usize::from(m.alpha_mode() == gltf::material::AlphaMode::Blend);
     }
     let mut out = Vec::new();
     if textured > 0 {
         out.push(format!("{textured} material(s) have metallic-roughness, normal or occlusion textures, which glint does not read yet (it reads base colour and emissive textures)"));
     }
-    if mask + blend > 0 {
-        out.push(format!("{} material(s) use alphaMode MASK or BLEND, which glint renders opaque for now", mask + blend));
+    if blend > 0 {
+        out.push(format!("{blend} material(s) use alphaMode BLEND, which glint renders as MASK at alpha 0.5"));
     }
     out
 }

@@ -33,13 +33,29 @@ pub(crate) struct TextureRef {
 pub(crate) struct MaterialTextures {
     pub base_color: Option<TextureRef>,
     pub emissive: Option<TextureRef>,
+    /// alphaMode MASK (and BLEND, as MASK at 0.5): (alphaCutoff, the base
+    /// colour factor's alpha).
+    pub alpha_mask: Option<(f32, f32)>,
 }
 
 
 /// The slots of material `m` (`at`: its glTF path).
 pub(crate) fn material_textures(m: &gltf::Material, at: &str) -> Result<MaterialTextures, String> {
     let pbr = m.pbr_metallic_roughness();
+    let factor = pbr.base_color_factor()[3];
+    let alpha_mask = match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => None,
+        gltf::material::AlphaMode::Mask => {
+            let cutoff = m.alpha_cutoff().unwrap_or(0.5);
+            if !(cutoff.is_finite() && cutoff >= 0.0) {
+                return Err(format!("{at}.alphaCutoff: {cutoff} is not a finite value >= 0"));
+            }
+            Some((cutoff, factor))
+        }
+        gltf::material::AlphaMode::Blend => Some((0.5, factor)),
+    };
     Ok(MaterialTextures {
+        alpha_mask,
         base_color: pbr.base_color_texture().map(|t| texture_ref(&t, &format!("{at}.pbrMetallicRoughness.baseColorTexture"))).transpose()?,
         emissive: m.emissive_texture().map(|t| texture_ref(&t, &format!("{at}.emissiveTexture"))).transpose()?,
     })
