@@ -91,7 +91,7 @@ fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f, error: f32) -
     }
     for (var i = 0u; i < select(light_count(), 0u, single_point()); i++) {
         var l = load_light(i);
-        if l.kind == LIGHT_POINT && !POINT_LIGHTS {
+        if l.kind != LIGHT_SPHERE && !POINT_LIGHTS {
             continue;
         }
         if l.kind == LIGHT_SPHERE {
@@ -102,7 +102,7 @@ fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f, error: f32) -
                 l = sphere_as_point(l); // raster style
             }
         }
-        let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
+        let count = select(max(params.samples, 1u), 1u, l.kind != LIGHT_SPHERE);
         irradiance += light_irradiance(i, l, p, n, o, count, params.falloff, params.falloff_k, &rng);
     }
     let radiance = finite_or_zero(base / PI * irradiance);

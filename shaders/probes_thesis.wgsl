@@ -77,7 +77,7 @@ fn point_lights_in_bucket(p: vec3f, texel: vec2u, s: u32) -> vec3f {
     let solid_angle = 2.0 * PROBE_PI / f32(s * s);
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
-        if l.kind != LIGHT_POINT {
+        if l.kind == LIGHT_SPHERE {
             continue;
         }
         let ls = sample_light(l, p, vec2f(0.5));

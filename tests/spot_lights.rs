@@ -49,3 +49,22 @@ fn a_spot_light_is_its_point_light_inside_the_cone_and_dark_outside() {
         assert!(outer_spot < 0.005 * outer_point, "{graph}: beyond the outer cone {outer_spot}");
     }
 }
+
+/// A directional light (a sun) of irradiance E straight down on the
+/// floor: radiance albedo E / pi at every floor pixel, in every graph; and
+/// at 60 degrees, half of it.
+#[test]
+fn a_directional_light_gives_albedo_e_over_pi_everywhere() {
+    let Some(gpu) = gpu() else { return };
+    for (direction, cos) in [("(0.0, -1.0, 0.0)", 1.0), ("(0.0, -0.5, -0.8660254)", 0.5)] {
+        let scene = FLOOR.replace("LIGHT", &format!("DirectionalLight(direction: {direction}, irradiance: (2.0, 2.0, 2.0))"));
+        let want = 0.8 * 2.0 * cos / std::f64::consts::PI;
+        for graph in ["direct.ron", "hybrid-point.ron", "pathtrace.ron", "realtime.ron"] {
+            let img = render(gpu, scene_from(&scene), &repo().join("passes").join(graph), (32, 32), 8, None);
+            // The floor fills the view (2 units each side, 1.73 seen).
+            let got = mean_rgb(&img);
+            eprintln!("{graph}, cos {cos}: {got:.4} against {want:.4}");
+            assert!((got / want - 1.0).abs() < 0.01, "{graph}, cos {cos}: {got} against albedo E cos / pi = {want}");
+        }
+    }
+}

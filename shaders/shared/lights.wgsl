@@ -18,6 +18,14 @@ struct LightSample {
 // sphere subtends (uniform cone sampling), or the direction to a point light.
 fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
     var s = LightSample(vec3f(0.0, 1.0, 0.0), 0.0, vec3f(0.0), 0.0, false);
+    if SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
+        // A delta direction; shadow rays go as far as rays go.
+        s.dir = l.position;
+        s.dist = 3.0e38;
+        s.weight = l.color;
+        s.valid = true;
+        return s;
+    }
     let to = l.position - p;
     let d = length(to);
     if !(d > 0.0) {
@@ -93,7 +101,9 @@ fn falloff_scale(falloff: u32, k: f32, d: f32) -> f32 {
 // What a visible sample `s` of light `l` gives surface point p facing it
 // at cos_n: L cos / pdf (or I cos / d^2), times the falloff's scale.
 fn sample_irradiance(l: Light, p: vec3f, s: LightSample, cos_n: f32, falloff: u32, falloff_k: f32) -> vec3f {
-    return s.weight * cos_n * falloff_scale(falloff, falloff_k, length(l.position - p));
+    // (A directional light has no distance to fall off over.)
+    let scale = select(falloff_scale(falloff, falloff_k, length(l.position - p)), 1.0, SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL);
+    return s.weight * cos_n * scale;
 }
 
 // Sphere light `l` as the far-field point light the raster-style point

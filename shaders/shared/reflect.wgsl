@@ -40,7 +40,7 @@ fn shade(p: vec3f, n: vec3f, error: f32, m: Material, extra: vec3f, rng: ptr<fun
     var e = vec3f(0.0);
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
-        let count = select(max(params.samples, 1u), 1u, l.kind == LIGHT_POINT);
+        let count = select(max(params.samples, 1u), 1u, l.kind != LIGHT_SPHERE);
         e += light_irradiance(i, l, p, n, o, count, 0u, 0.0, rng);
     }
     e += extra;

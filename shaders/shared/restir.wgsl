@@ -94,6 +94,20 @@ fn light_point(s: Surface, light: u32, oct: vec2f) -> LightPoint {
 // light_point with the light already loaded.
 fn light_point_of(s: Surface, l: Light, oct: vec2f) -> LightPoint {
     var out = LightPoint(vec3f(0.0), vec3f(0.0, 1.0, 0.0), 0.0, 0.0, 0.0, 0.0);
+    if SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
+        // A delta direction: unit "distance", no falloff, shadow rays as
+        // far as rays go.
+        out.dir = l.position;
+        out.dist = 3.0e38;
+        out.d2 = 1.0;
+        out.cos_l = 1.0;
+        out.shadow_tmax = 3.0e38;
+        let cos_s = dot(s.n, out.dir);
+        if cos_s > 0.0 && dot(out.dir, s.ng) > 0.0 {
+            out.light = l.color * cos_s;
+        }
+        return out;
+    }
     if l.kind == LIGHT_POINT {
         let to = l.position - s.o;
         let d2 = dot(to, to);

@@ -48,6 +48,10 @@ struct Material {
 
 const LIGHT_POINT: u32 = 0u;
 const LIGHT_SPHERE: u32 = 1u;
+// A light from infinitely far away: `position` is the unit direction
+// toward it, `color` the irradiance on a surface facing it.
+const LIGHT_DIRECTIONAL: u32 = 2u;
+override SCENE_DIRECTIONAL_LIGHTS: bool = true;
 
 struct Light {
     position: vec3f,
@@ -172,9 +176,10 @@ fn load_light(i: u32) -> Light {
         spot = bitcast<vec4f>(scene_texel(scene_lights, 3u * i + 2u));
     }
     var l = Light(a.xyz, a.w, bitcast<vec3f>(b.xyz), b.w, spot);
+    // (A directional light counts as a point light in the features.)
     if !SCENE_POINT_LIGHTS {
         l.kind = LIGHT_SPHERE;
-    } else if !SCENE_AREA_LIGHTS {
+    } else if !SCENE_AREA_LIGHTS && !SCENE_DIRECTIONAL_LIGHTS {
         l.kind = LIGHT_POINT;
     }
     return l;

@@ -64,6 +64,9 @@ pub struct SceneFeatures {
     pub textures: bool,
     /// Some point light has a cone.
     pub spot_lights: bool,
+    /// Some light is directional (`point_lights` is set too: the passes
+    /// that shade point lights shade them).
+    pub directional_lights: bool,
     /// Some material is alpha-tested (alphaMode MASK).
     pub alpha_mask: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
@@ -93,6 +96,7 @@ impl SceneFeatures {
             motion: true,
             textures: true,
             spot_lights: true,
+            directional_lights: true,
             alpha_mask: true,
             lights: u32::MAX,
             flat: false,

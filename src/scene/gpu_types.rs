@@ -95,6 +95,9 @@ pub struct MaterialGpu {
 pub const LIGHT_POINT: u32 = 0;
 /// `LightGpu::kind` of a sphere light.
 pub const LIGHT_SPHERE: u32 = 1;
+/// `Light::kind` of a directional light: `position` is the unit direction
+/// toward it, `color` its irradiance.
+pub const LIGHT_DIRECTIONAL: u32 = 2;
 
 /// `struct Light` (32 bytes). Point light: `color` is intensity I (W/sr),
 /// radius 0. Sphere light: `color` is radiance L, and the light also appears
@@ -200,7 +203,9 @@ impl SceneData {
     /// Whether rays test every primitive instead of walking the BVH
     /// (`FLAT_LIMIT`).
     pub fn is_flat(&self) -> bool {
-        self.spheres.len() + self.triangles.len() <= FLAT_LIMIT && !self.alpha_masked()
+        // The flat path's occluder lists are built from light positions,
+        // which a directional light has not.
+        self.spheres.len() + self.triangles.len() <= FLAT_LIMIT && !self.alpha_masked() && !self.lights.iter().any(|l| l.kind == LIGHT_DIRECTIONAL)
     }
 
     /// Whether some material is alpha-tested (alphaMode MASK): its

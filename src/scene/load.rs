@@ -88,9 +88,10 @@ pub(super) struct Builder<'a, 'l> {
     obj_cache: Vec<(PathBuf, Option<u32>, usize)>,
     /// glTF files already read, in the order first met.
     pub(super) gltf_cache: Vec<GltfLoaded>,
-    /// Point lights that glTF files place (position, intensity, a spot
-    /// light's cone), spawned after the scene's own lights.
-    pub(super) gltf_lights: Vec<(DVec3, Vec3, Option<SpotCone>)>,
+    /// Point, spot and directional lights that glTF files place
+    /// (position, light, a spot light's cone), spawned after the scene's
+    /// own lights.
+    pub(super) gltf_lights: Vec<(DVec3, Light, Option<SpotCone>)>,
     /// Per material id, its textures (filled up to the last textured one).
     pub(super) material_textures: Vec<MaterialTextures>,
     pub(super) textures: Vec<TextureImage>,
@@ -262,6 +263,14 @@ impl<'a, 'l> Builder<'a, 'l> {
                     features.point_lights = true;
                     DVec3::from_array(position)
                 }
+                LightDesc::DirectionalLight { direction, irradiance } => {
+                    let direction = Vec3::from_array(direction).normalize();
+                    e.add(Light::Directional { irradiance: Vec3::from_array(irradiance), direction });
+                    features.point_lights = true;
+                    features.directional_lights = true;
+                    // No place: the camera's, for whatever asks one.
+                    DVec3::from_array(desc.camera.position)
+                }
                 LightDesc::SpotLight { position, direction, intensity, inner_deg, outer_deg, .. } => {
                     e.add(Light::Point { intensity: Vec3::from_array(intensity) });
                     let cone = validate::spot_cone(Vec3::from_array(direction), inner_deg.to_radians(), outer_deg.to_radians())
@@ -287,14 +296,15 @@ impl<'a, 'l> Builder<'a, 'l> {
         }
 
         let gltf_lights = std::mem::take(&mut self.gltf_lights);
-        for (k, &(position, intensity, spot)) in gltf_lights.iter().enumerate() {
+        for (k, &(position, light, spot)) in gltf_lights.iter().enumerate() {
             let j = desc.lights.len() + k;
             let e = self.world.spawn((
                 ObjectId((desc.objects.len() + j) as u32),
                 LightIndex(j as u32),
-                Light::Point { intensity },
+                light,
                 Transform::from_translation(position),
             ));
+            features.directional_lights |= matches!(light, Light::Directional { .. });
             if let Some(cone) = spot {
                 let _ = self.world.insert_one(e, cone);
                 features.spot_lights = true;

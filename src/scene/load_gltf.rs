@@ -11,7 +11,7 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 use super::gltf_file::{self, GltfFile, GltfTriangle};
 use super::load::Builder;
 use super::validate::{Ctx, MAX_RANGE};
-use super::world::{Camera, LocalTriangle, MaterialTextures, MeshData, MeshShape, ObjectId, SpotCone, TextureSlot, Transform};
+use super::world::{Camera, Light, LocalTriangle, MaterialTextures, MeshData, MeshShape, ObjectId, SpotCone, TextureSlot, Transform};
 use crate::error::UserError;
 
 /// A glTF file read for this scene, and where its pieces went.
@@ -117,8 +117,13 @@ impl Builder<'_, '_> {
         for l in &self.gltf_cache[g].file.lights {
             let position = placement.transform_point3(l.position);
             ctx.near("translate", position, camera)?;
-            let spot = l.spot.map(|s| SpotCone { direction: placement.transform_vector3(s.direction.as_dvec3()).normalize_or_zero().as_vec3(), ..s });
-            self.gltf_lights.push((position, l.intensity, spot));
+            let turn = |d: glam::Vec3| placement.transform_vector3(d.as_dvec3()).normalize_or_zero().as_vec3();
+            let spot = l.spot.map(|s| SpotCone { direction: turn(s.direction), ..s });
+            let light = match l.directional {
+                Some(d) => Light::Directional { irradiance: l.intensity, direction: turn(d) },
+                None => Light::Point { intensity: l.intensity },
+            };
+            self.gltf_lights.push((position, light, spot));
         }
         Ok(())
     }

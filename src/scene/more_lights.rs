@@ -26,7 +26,7 @@ impl Scene {
         for (_, t, light, material) in lights {
             let radius = match light {
                 Light::Sphere { radius, .. } => f64::from(radius),
-                Light::Point { .. } => 0.0,
+                Light::Point { .. } | Light::Directional { .. } => 0.0,
             };
             let spread = (4.0 * radius).max(0.05 * extent);
             // Up is the camera's (+y in every shipped scene).

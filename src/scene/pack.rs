@@ -7,8 +7,8 @@ use glam::{DVec3, Vec3};
 
 use super::features::SceneFeatures;
 use super::gpu_types::{
-    LightGpu, MaterialTexturesGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, TriangleUvGpu, FLAT_LIMIT, LIGHT_POINT,
-    LIGHT_SPHERE,
+    LightGpu, MaterialTexturesGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, TriangleUvGpu, FLAT_LIMIT,
+    LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPHERE,
 };
 use super::texture_classes;
 use super::world::{
@@ -63,6 +63,9 @@ impl Scene {
                     let spot = spot.map_or(NO_SPOT, SpotCone::gpu);
                     (LightGpu { spot, ..light_gpu(p, 0.0, intensity, LIGHT_POINT) }, None)
                 }
+                // `position` holds the direction toward the light (no
+                // place, so no rebasing).
+                (Light::Directional { irradiance, direction }, _) => (light_gpu(-direction, 0.0, irradiance, LIGHT_DIRECTIONAL), None),
             };
             lights.push((*index, *id, gpu, ball));
         }
@@ -217,7 +220,7 @@ impl Scene {
     /// Whether `pack` gives a flat scene (`SceneData::is_flat`), counted
     /// without packing.
     pub fn is_flat(&self) -> bool {
-        self.sphere_count() + self.triangle_count() <= FLAT_LIMIT && !self.features.alpha_mask
+        self.sphere_count() + self.triangle_count() <= FLAT_LIMIT && !self.features.alpha_mask && !self.features.directional_lights
     }
 
     /// What a graph is compiled for: the features found at load, with
@@ -238,7 +241,7 @@ impl Scene {
             .iter()
             .filter_map(|(t, l)| match *l {
                 Light::Sphere { radius, .. } => Some((t.translation, f64::from(radius))),
-                Light::Point { .. } => None,
+                Light::Point { .. } | Light::Directional { .. } => None,
             })
             .collect();
         if lights.is_empty() {

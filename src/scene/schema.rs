@@ -148,6 +148,12 @@ pub(crate) enum LightDesc {
         #[serde(default)]
         motion: Option<MotionDesc>,
     },
+    /// Light from infinitely far away (a sun), travelling along
+    /// `direction`: irradiance E on a surface facing it.
+    DirectionalLight {
+        direction: V3,
+        irradiance: V3,
+    },
 }
 
 fn outer_deg() -> f32 {
@@ -160,6 +166,7 @@ impl LightDesc {
             LightDesc::SphereLight { .. } => "SphereLight",
             LightDesc::PointLight { .. } => "PointLight",
             LightDesc::SpotLight { .. } => "SpotLight",
+            LightDesc::DirectionalLight { .. } => "DirectionalLight",
         }
     }
 
@@ -168,6 +175,7 @@ impl LightDesc {
             LightDesc::SphereLight { motion, .. } | LightDesc::PointLight { motion, .. } | LightDesc::SpotLight { motion, .. } => {
                 motion.as_ref()
             }
+            LightDesc::DirectionalLight { .. } => None,
         }
     }
 }

@@ -284,6 +284,13 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
             ctx.place("position", *position)?;
             ctx.color("intensity", *intensity)?;
         }
+        LightDesc::DirectionalLight { direction, irradiance } => {
+            ctx.color("irradiance", *irradiance)?;
+            let d = ctx.finite("direction", *direction)?;
+            if d.length_squared() == 0.0 {
+                return Err(ctx.err("direction", "`direction` is (0, 0, 0); give the way the light travels"));
+            }
+        }
         LightDesc::SpotLight { position, direction, intensity, inner_deg, outer_deg, .. } => {
             ctx.place("position", *position)?;
             ctx.color("intensity", *intensity)?;

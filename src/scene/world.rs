@@ -253,6 +253,15 @@ pub enum Light {
         /// Intensity I (W/sr), linear RGB.
         intensity: Vec3,
     },
+    /// Light from infinitely far away (a sun): irradiance E on a surface
+    /// facing it, arriving along `direction` (unit, the way it travels).
+    /// Its entity's position means nothing.
+    Directional {
+        /// Irradiance E (W/m^2) on a surface facing the light, linear RGB.
+        irradiance: Vec3,
+        /// The way the light travels (unit).
+        direction: Vec3,
+    },
 }
 
 /// A point light's cone (a spot light): full intensity within

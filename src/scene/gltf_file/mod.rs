@@ -66,6 +66,9 @@ pub(crate) struct PointLight {
     pub intensity: Vec3,
     /// A spot light's cone (its direction in the file's world).
     pub spot: Option<super::world::SpotCone>,
+    /// A directional light's direction of travel (the file's world);
+    /// `intensity` is then its irradiance (lux / 683).
+    pub directional: Option<Vec3>,
 }
 
 /// A perspective camera placed by a node.

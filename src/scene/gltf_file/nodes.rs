@@ -59,7 +59,7 @@ pub(crate) fn walk(doc: &gltf::Document) -> Result<Placed, String> {
     }
     let nodes: Vec<gltf::Node> = doc.nodes().collect();
     let mut placed = Placed { instances: Vec::new(), lights: Vec::new(), cameras: Vec::new(), warnings: Vec::new() };
-    let (mut directionals, mut orthographic, mut skinned) = (0, 0, 0);
+    let (mut orthographic, mut skinned) = (0, 0);
     let mut stack: Vec<(usize, DMat4)> = roots.iter().rev().map(|&r| (r, DMat4::IDENTITY)).collect();
     while let Some((i, parent_matrix)) = stack.pop() {
         let node = &nodes[i];
@@ -82,7 +82,13 @@ pub(crate) fn walk(doc: &gltf::Document) -> Result<Placed, String> {
                     })?;
                     placed.lights.push(PointLight { spot: Some(spot), ..point_light(&light, world, &at)? });
                 }
-                Kind::Directional => directionals += 1,
+                Kind::Directional => {
+                    let direction = world.transform_vector3(DVec3::NEG_Z).normalize_or_zero().as_vec3();
+                    if direction == Vec3::ZERO {
+                        return Err(format!("nodes[{i}]: places {at} with a transform that collapses its direction"));
+                    }
+                    placed.lights.push(PointLight { directional: Some(direction), ..point_light(&light, world, &at)? });
+                }
             }
         }
         if let Some(camera) = node.camera() {
@@ -112,7 +118,6 @@ pub(crate) fn walk(doc: &gltf::Document) -> Result<Placed, String> {
             placed.warnings.push(format!("{n} {what}"));
         }
     };
-    say(directionals, "directional light(s) not rendered: glint has point, spot and sphere lights only so far");
     say(orthographic, "orthographic camera(s) skipped: glint's cameras are perspective");
     say(skinned, "skinned mesh instance(s) shown unskinned, in their mesh's own pose");
     Ok(placed)
@@ -148,5 +153,5 @@ fn point_light(light: &gltf::khr_lights_punctual::Light, world: DMat4, at: &str)
     if !(candela.is_finite() && candela >= 0.0) {
         return Err(format!("{at}.intensity: {candela} is not a finite value >= 0"));
     }
-    Ok(PointLight { position: world.transform_point3(DVec3::ZERO), intensity: color * (candela / LUMENS_PER_WATT), spot: None })
+    Ok(PointLight { position: world.transform_point3(DVec3::ZERO), intensity: color * (candela / LUMENS_PER_WATT), spot: None, directional: None })
 }

@@ -146,22 +146,28 @@ fn strips_normals_lights_cameras_and_materials_convert() {
     )
     .expect("json");
     v["extensionsUsed"] = gltf::json::deserialize::from_str(r#"["KHR_lights_punctual", "KHR_materials_emissive_strength", "EXT_other"]"#).expect("json");
-    v["extensions"] = gltf::json::deserialize::from_str(r#"{"KHR_lights_punctual": {"lights": [{"type": "point", "color": [1, 0.5, 0.25], "intensity": 683}, {"type": "spot", "spot": {}}]}}"#).expect("json");
+    v["extensions"] = gltf::json::deserialize::from_str(r#"{"KHR_lights_punctual": {"lights": [{"type": "point", "color": [1, 0.5, 0.25], "intensity": 683}, {"type": "spot", "spot": {}}, {"type": "directional", "intensity": 1366}]}}"#).expect("json");
     v["cameras"] = gltf::json::deserialize::from_str(r#"[{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}]"#).expect("json");
     v["nodes"] = gltf::json::deserialize::from_str(
-        r#"[{"mesh": 0}, {"children": [0, 2, 3, 4]}, {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0, 3, 0]},
-            {"camera": 0, "translation": [0, 0, 5]}, {"extensions": {"KHR_lights_punctual": {"light": 1}}}]"#,
+        r#"[{"mesh": 0}, {"children": [0, 2, 3, 4, 5]}, {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0, 3, 0]},
+            {"camera": 0, "translation": [0, 0, 5]}, {"extensions": {"KHR_lights_punctual": {"light": 1}}},
+            {"extensions": {"KHR_lights_punctual": {"light": 2}}, "rotation": [-0.7071068, 0, 0, 0.7071068]}]"#,
     )
     .expect("json");
     let f = read(&write_json(&scratch("strip"), &v)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(f.meshes[0].len(), 2, "a strip of four vertices is two triangles");
     assert!(f.meshes[0].iter().all(|t| t.n == [Vec3::Z; 3]), "both face +z: the strip's second triangle turns back");
     assert_eq!(f.materials, vec![MaterialGpu { albedo: [0.5, 0.25, 1.0], specular: 0.25, emission: [4.0, 2.0, 0.0], roughness: 0.75 }]);
-    assert_eq!(f.lights[0], PointLight { position: DVec3::new(0.0, 3.0, 0.0), intensity: Vec3::new(1.0, 0.5, 0.25), spot: None }, "683 cd is 1 W/sr");
+    assert_eq!(f.lights[0], PointLight { position: DVec3::new(0.0, 3.0, 0.0), intensity: Vec3::new(1.0, 0.5, 0.25), spot: None, directional: None }, "683 cd is 1 W/sr");
     // The spot light: glTF's default cone (0 to pi/4) down the node's -z.
     let spot = f.lights[1].spot.expect("a cone");
     assert_eq!(spot.direction, Vec3::NEG_Z);
     assert!((spot.cos_inner - 1.0).abs() < 1e-6 && (spot.cos_outer - std::f32::consts::FRAC_PI_4.cos()).abs() < 1e-6, "{spot:?}");
+    // The sun: 1366 lux is 2 W/m^2; turned -90 degrees about x, its -z
+    // points down.
+    let sun = f.lights[2];
+    assert_eq!(sun.intensity, Vec3::splat(2.0));
+    assert!(sun.directional.expect("directional").abs_diff_eq(Vec3::NEG_Y, 1e-6), "{sun:?}");
     let c = f.cameras[0];
     assert_eq!((c.position, c.target), (DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, 4.0)), "a glTF camera looks down -z");
     assert!((c.vfov_deg - 0.5f64.to_degrees()).abs() < 1e-6);
