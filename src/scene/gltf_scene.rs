@@ -9,7 +9,7 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::gltf_file::{self, GltfCamera};
-use super::load::parse_with;
+use super::parse_with;
 use super::obj_scene::{framing, VFOV_DEG};
 use crate::error::UserError;
 use crate::scene::Scene;

@@ -8,8 +8,7 @@ use hecs::{EntityBuilder, World};
 use ron::extensions::Extensions;
 
 use super::features::SceneFeatures;
-use super::gltf_file::GltfFile;
-use super::load_gltf::{placement, GltfLoaded};
+use super::gltf_file::{GltfFile, GltfLoaded};
 use super::gpu_types::MaterialGpu;
 use super::locate::{Locator, Step};
 use super::obj;
@@ -59,7 +58,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Scene, UserError> {
 }
 
 /// Like `parse`, with glTF files already read (resolved path, file).
-pub(super) fn parse_with(text: &str, path: &Path, preloaded: Vec<(PathBuf, GltfFile)>) -> Result<Scene, UserError> {
+pub(crate) fn parse_with(text: &str, path: &Path, preloaded: Vec<(PathBuf, GltfFile)>) -> Result<Scene, UserError> {
     // A UTF-8 byte order mark is not RON; editors may write one.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     // implicit_some: optional fields are written bare (`motion: Orbit(..)`).
@@ -147,8 +146,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             let ctx = Ctx::new(loc, at, format!("objects[{i}] ({})", o.kind()));
             validate::object(&ctx, o)?;
             if let ObjectDesc::Gltf { path, translate, scale, rotate_deg } = o {
-                let placement = placement(*translate, *scale, *rotate_deg);
-                self.gltf_object(&ctx, i, path, placement, DVec3::from_array(desc.camera.position))?;
+                self.gltf_object(&ctx, i, path, (*translate, *scale, *rotate_deg), DVec3::from_array(desc.camera.position))?;
                 features.meshes = true;
                 continue;
             }

@@ -4,37 +4,17 @@
 //! for all such copies); any other (non-uniform scale, shear, mirroring)
 //! gets the matrix baked into a mesh of its own. Translations stay f64.
 
-use std::path::PathBuf;
 
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
-use super::gltf_file::{self, GltfFile, GltfTriangle};
+use super::gltf_file::{self, GltfLoaded, GltfTriangle};
 use super::load::Builder;
 use super::validate::{Ctx, MAX_RANGE};
 use super::world::{Camera, Light, LocalTriangle, MaterialTextures, MeshData, MeshShape, ObjectId, SpotCone, TextureSlot, Transform};
 use crate::error::UserError;
 
-/// A glTF file read for this scene, and where its pieces went.
-pub(super) struct GltfLoaded {
-    pub path: PathBuf,
-    pub file: GltfFile,
-    /// The scene material id of the file's material 0 (None until added).
-    materials_base: Option<u32>,
-    /// The glTF default material's id in the scene, once used.
-    default_material: Option<u32>,
-    /// Per glTF mesh: its scene mesh for instances that share it.
-    shared: Vec<Option<usize>>,
-}
-
-impl GltfLoaded {
-    pub(super) fn new(path: PathBuf, file: GltfFile) -> Self {
-        let shared = vec![None; file.meshes.len()];
-        GltfLoaded { path, file, materials_base: None, default_material: None, shared }
-    }
-}
-
 /// A RON placement as a matrix: translate + rotate(scale x p).
-pub(super) fn placement(translate: [f64; 3], scale: f32, rotate_deg: [f32; 3]) -> DMat4 {
+fn placement(translate: [f64; 3], scale: f32, rotate_deg: [f32; 3]) -> DMat4 {
     let [x, y, z] = rotate_deg.map(|d| f64::from(d).to_radians());
     let q = DQuat::from_euler(glam::EulerRot::XYZ, x, y, z);
     DMat4::from_scale_rotation_translation(DVec3::splat(f64::from(scale)), q, DVec3::from_array(translate))
@@ -55,8 +35,10 @@ fn similarity(m: DMat3) -> Option<(DQuat, f64)> {
 
 impl Builder<'_, '_> {
     /// Spawns the instances of the glTF file at `rel` as object `i`, placed
-    /// by `placement`, and queues its point lights.
-    pub(super) fn gltf_object(&mut self, ctx: &Ctx, i: usize, rel: &str, placement: DMat4, camera: DVec3) -> Result<(), UserError> {
+    /// by the RON object's translate, scale and rotation, and queues its
+    /// lights and cameras.
+    pub(super) fn gltf_object(&mut self, ctx: &Ctx, i: usize, rel: &str, (translate, scale, rotate_deg): ([f64; 3], f32, [f32; 3]), camera: DVec3) -> Result<(), UserError> {
+        let placement = placement(translate, scale, rotate_deg);
         let resolved = self.loc.path.parent().unwrap_or(std::path::Path::new("")).join(rel);
         let g = match self.gltf_cache.iter().position(|g| g.path == resolved) {
             Some(g) => g,

@@ -38,6 +38,7 @@ mod tests;
 pub use features::{Feature, SceneFeatures};
 pub use gpu_types::*;
 pub use load::{load, opens, parse, SCENE_EXTENSIONS};
+pub(crate) use load::parse_with;
 pub use world::{
     animate, BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MaterialTextures, MeshData, MeshShape,
     Motion, ObjectId, Scene, SphereShape, SpotCone, TextureImage, TextureSlot, Transform,

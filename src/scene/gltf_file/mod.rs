@@ -96,6 +96,25 @@ impl GltfFile {
     }
 }
 
+/// A glTF file read for this scene, and where its pieces went.
+pub(crate) struct GltfLoaded {
+    pub path: PathBuf,
+    pub file: GltfFile,
+    /// The scene material id of the file's material 0 (None until added).
+    pub materials_base: Option<u32>,
+    /// The glTF default material's id in the scene, once used.
+    pub default_material: Option<u32>,
+    /// Per glTF mesh: its scene mesh for instances that share it.
+    pub shared: Vec<Option<usize>>,
+}
+
+impl GltfLoaded {
+    pub(crate) fn new(path: PathBuf, file: GltfFile) -> Self {
+        let shared = vec![None; file.meshes.len()];
+        GltfLoaded { path, file, materials_base: None, default_material: None, shared }
+    }
+}
+
 /// Reads the glTF or GLB file at `path`.
 pub(crate) fn read(path: &Path) -> Result<GltfFile, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read glTF file {}: {e}", path.display()))?;
