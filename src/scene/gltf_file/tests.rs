@@ -236,10 +236,14 @@ fn textures_uvs_and_transforms_are_read() {
     let base = f.material_textures[0].base_color.expect("a base colour texture");
     assert_eq!(base.wrap, [Wrap::Clamp, Wrap::Mirror]);
     // The extension's example: a quarter turn, half size, offset (0, 1)
-    // takes (1, 0) to (0, 1.5).
+    // reads the image's lower left quadrant: (0, 0) at (0, 1), (1, 0) at
+    // (0, 0.5), (0, 1) at (0.5, 1).
     let m = base.transform;
-    let (u, w) = (m[0][0] + m[0][2], m[1][0] + m[1][2]);
-    assert!(u.abs() < 1e-6 && (w - 1.5).abs() < 1e-6, "({u}, {w})");
+    let at = |u: f32, v: f32| (m[0][0] * u + m[0][1] * v + m[0][2], m[1][0] * u + m[1][1] * v + m[1][2]);
+    for ((u, v), (x, y)) in [((0.0, 0.0), (0.0, 1.0)), ((1.0, 0.0), (0.0, 0.5)), ((0.0, 1.0), (0.5, 1.0))] {
+        let (gx, gy) = at(u, v);
+        assert!((gx - x).abs() < 1e-6 && (gy - y).abs() < 1e-6, "({u}, {v}) -> ({gx}, {gy}), want ({x}, {y})");
+    }
     let emissive = f.material_textures[0].emissive.expect("an emissive texture");
     assert_eq!((emissive.wrap, emissive.transform), ([Wrap::Clamp, Wrap::Mirror], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]), "the same texture, without a transform");
     // An image that is not one says so.

@@ -70,9 +70,13 @@ fn texture_ref(info: &gltf::texture::Info, at: &str) -> Result<TextureRef, Strin
         if ![ox, oy, r, sx, sy].iter().all(|x| x.is_finite()) {
             return Err(format!("{at}.extensions.KHR_texture_transform: a value is not finite"));
         }
-        // translation x rotation x scale, as the extension's GLSL writes it.
+        // translation x rotation x scale. The rotation turns the image
+        // clockwise as it appears (v points down): the extension's example
+        // (offset (0, 1), a quarter turn, scale 0.5) then reads the lower
+        // left quadrant, and the TextureTransformTest sample model's arrow
+        // meets its green marker.
         let (s, c) = r.sin_cos();
-        transform = [[c * sx, -s * sy, ox], [s * sx, c * sy, oy]];
+        transform = [[c * sx, s * sy, ox], [-s * sx, c * sy, oy]];
         tex_coord = t.tex_coord().unwrap_or(tex_coord);
     }
     if tex_coord != 0 {
