@@ -15,15 +15,8 @@ fn glint(args: &[&str]) -> (i32, String) {
 }
 
 fn glint_env(args: &[&str], env: &[(&str, &str)]) -> (i32, String) {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_glint"));
-    cmd.args(args).current_dir(repo()).env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()));
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    let out = cmd.output().expect("run glint");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
-    (out.status.code().unwrap_or(-1), stderr)
+    let (code, _, stderr) = run_glint(args, env);
+    (code, stderr)
 }
 
 fn pfm(path: &Path, header: &str, pixels: &[[f32; 3]]) -> String {

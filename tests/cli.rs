@@ -3,20 +3,11 @@
 
 mod common;
 
-use std::process::Command;
 
 use common::{repo, scratch};
 
 fn glint(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(repo())
-        .env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()))
-        .output()
-        .expect("run glint");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
+    common::run_glint(args, &[])
 }
 
 fn write(dir: &std::path::Path, name: &str, text: &str) -> String {

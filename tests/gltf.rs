@@ -6,21 +6,13 @@
 
 mod common;
 
-use std::process::Command;
 
 use common::*;
 use glint::metrics;
 
 fn glint(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .current_dir(repo())
-        .env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()))
-        .output()
-        .expect("run glint");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
-    (out.status.code().unwrap_or(-1), stderr)
+    let (code, _, stderr) = run_glint(args, &[]);
+    (code, stderr)
 }
 
 const PLACED: &str = r#"translate: (0.0, -0.572, -0.1), scale: 0.25, rotate_deg: (0.0, 25.0, 0.0)"#;

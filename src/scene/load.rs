@@ -262,7 +262,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     DVec3::from_array(position)
                 }
                 LightDesc::DirectionalLight { direction, irradiance } => {
-                    let direction = Vec3::from_array(direction).normalize();
+                    let direction = validate::unit(Vec3::from_array(direction)).ok_or_else(|| ctx.err("direction", "`direction` has no length"))?;
                     e.add(Light::Directional { irradiance: Vec3::from_array(irradiance), direction });
                     features.point_lights = true;
                     features.directional_lights = true;
@@ -368,8 +368,17 @@ impl<'a, 'l> Builder<'a, 'l> {
 
     /// Mesh `mesh`, scaled, must fit in `validate::MAX_RANGE`.
     fn check_mesh_extent(&self, ctx: &Ctx, mesh: usize, scale: f64) -> Result<(), UserError> {
-        let Some(mesh) = self.meshes.get(mesh) else { return Ok(()) };
-        let local = mesh.triangles.iter().flat_map(|t| t.p).map(|p| f64::from(p.abs().max_element())).fold(0.0, f64::max);
+        self.check_reach(ctx, self.reach(mesh), scale)
+    }
+
+    /// How far mesh `mesh` reaches from its origin along any axis.
+    pub(super) fn reach(&self, mesh: usize) -> f64 {
+        self.meshes.get(mesh).map_or(0.0, |m| m.triangles.iter().flat_map(|t| t.p).map(|p| f64::from(p.abs().max_element())).fold(0.0, f64::max))
+    }
+
+    /// A mesh reaching `local` from its origin, scaled, must fit in
+    /// `validate::MAX_RANGE`.
+    pub(super) fn check_reach(&self, ctx: &Ctx, local: f64, scale: f64) -> Result<(), UserError> {
         let extent = local * scale;
         if extent > validate::MAX_RANGE {
             return Err(ctx.err(

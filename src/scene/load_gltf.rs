@@ -9,7 +9,7 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 
 use super::gltf_file::{self, GltfLoaded, GltfTriangle};
 use super::load::Builder;
-use super::validate::{Ctx, MAX_RANGE};
+use super::validate::Ctx;
 use super::world::{Camera, Light, LocalTriangle, MaterialTextures, MeshData, MeshShape, ObjectId, SpotCone, TextureSlot, Transform};
 use crate::error::UserError;
 
@@ -64,26 +64,29 @@ impl Builder<'_, '_> {
             let translation = world.w_axis.truncate();
             ctx.near("translate", translation, camera)?;
             let linear = DMat3::from_mat4(world);
-            let (mesh, transform) = match similarity(linear) {
+            // (mesh, how far it reaches from its origin, placement): a shared
+            // mesh's reach is measured once, whatever its instances.
+            let (mesh, reach, transform) = match similarity(linear) {
                 Some((rotation, scale)) => {
-                    let mesh = match self.gltf_cache[g].shared[inst.mesh] {
+                    let (mesh, reach) = match self.gltf_cache[g].shared[inst.mesh] {
                         Some(m) => m,
                         None => {
                             let m = self.gltf_mesh(g, inst.mesh, DMat3::IDENTITY);
-                            self.gltf_cache[g].shared[inst.mesh] = Some(m);
-                            m
+                            let shared = (m, self.reach(m));
+                            self.gltf_cache[g].shared[inst.mesh] = Some(shared);
+                            shared
                         }
                     };
-                    (mesh, Transform { translation, rotation: rotation.as_quat(), scale: scale as f32 })
+                    (mesh, reach, Transform { translation, rotation: rotation.as_quat(), scale: scale as f32 })
                 }
                 // A collapsed instance (a zero scale) shows nothing.
                 None if linear.determinant() == 0.0 => continue,
-                None => (self.gltf_mesh(g, inst.mesh, linear), Transform::from_translation(translation)),
+                None => {
+                    let mesh = self.gltf_mesh(g, inst.mesh, linear);
+                    (mesh, self.reach(mesh), Transform::from_translation(translation))
+                }
             };
-            let extent = self.meshes[mesh].triangles.iter().flat_map(|t| t.p).map(|p| f64::from(p.abs().max_element())).fold(0.0, f64::max) * f64::from(transform.scale);
-            if extent > MAX_RANGE {
-                return Err(ctx.err("scale", format_args!("a mesh of the glTF file reaches {extent:e} from its origin, beyond glint's range of {MAX_RANGE:e} (f32 on the GPU)")));
-            }
+            self.check_reach(ctx, reach, f64::from(transform.scale))?;
             self.world.spawn((ObjectId(i as u32), transform, MeshShape { mesh }));
         }
         for c in &self.gltf_cache[g].file.cameras {

@@ -82,18 +82,19 @@ pub fn mip_count(side: u32) -> u32 {
 /// `image` as `side x side` sRGB RGBA8 levels, largest first, down to 1x1.
 pub fn mip_chain(image: &TextureImage, side: u32) -> Vec<Vec<u8>> {
     let lut = srgb_to_linear_table();
-    let src: Vec<Vec4> = image
-        .rgba
-        .chunks_exact(4)
-        .map(|p| Vec4::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], f32::from(p[3]) / 255.0))
-        .collect();
     let (w, h) = (image.width as usize, image.height as usize);
     let s = side as usize;
-    // Rows first, then columns.
+    // Rows first, then columns; each source row decoded to linear light
+    // only as it is resampled (a 4096^2 image whole in f32 would be 256 MiB).
     let mut rows = Vec::with_capacity(s * h);
-    for y in 0..h {
-        rows.extend(resample(&src[y * w..(y + 1) * w], s));
+    let mut row = Vec::with_capacity(w);
+    for texels in image.rgba.chunks_exact(4 * w.max(1)).take(h) {
+        row.clear();
+        row.extend(texels.chunks_exact(4).map(|p| Vec4::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], f32::from(p[3]) / 255.0)));
+        rows.extend(resample(&row, s));
     }
+    // (The rows there are: a short buffer cannot index past its end.)
+    let h = rows.len() / s;
     let mut level = vec![Vec4::ZERO; s * s];
     let mut column = vec![Vec4::ZERO; h];
     for x in 0..s {

@@ -287,7 +287,7 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
         LightDesc::DirectionalLight { direction, irradiance } => {
             ctx.color("irradiance", *irradiance)?;
             let d = ctx.finite("direction", *direction)?;
-            if d.length_squared() == 0.0 {
+            if d.as_dvec3().length_squared() == 0.0 {
                 return Err(ctx.err("direction", "`direction` is (0, 0, 0); give the way the light travels"));
             }
         }
@@ -295,7 +295,7 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
             ctx.place("position", *position)?;
             ctx.color("intensity", *intensity)?;
             let d = ctx.finite("direction", *direction)?;
-            if d.length_squared() == 0.0 {
+            if d.as_dvec3().length_squared() == 0.0 {
                 return Err(ctx.err("direction", "`direction` is (0, 0, 0); give the way the cone points"));
             }
             if !(inner_deg.is_finite() && outer_deg.is_finite() && 0.0 <= *inner_deg && inner_deg < outer_deg && *outer_deg <= 90.0) {
@@ -306,11 +306,17 @@ pub(crate) fn light(ctx: &Ctx, l: &LightDesc) -> Res<()> {
     Ok(())
 }
 
+/// `v` at unit length, normalised in f64 so that neither a tiny nor a
+/// huge (finite) direction fails; None for zero or non-finite.
+pub(crate) fn unit(v: Vec3) -> Option<Vec3> {
+    v.as_dvec3().try_normalize().map(|u| u.as_vec3())
+}
+
 /// The cone of a spot light pointing along `direction` (any length) with
 /// these half angles in radians; None where they do not make a cone
 /// (checked before: `light`, and the glTF reader).
 pub(crate) fn spot_cone(direction: Vec3, inner: f32, outer: f32) -> Option<SpotCone> {
-    let direction = direction.try_normalize()?;
+    let direction = unit(direction)?;
     (0.0 <= inner && inner < outer && outer <= std::f32::consts::FRAC_PI_2).then(|| SpotCone { direction, cos_inner: inner.cos(), cos_outer: outer.cos() })
 }
 

@@ -91,11 +91,14 @@ impl SceneGpu {
         let oom = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let invalid = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let buffers = SceneBuffers::new(&gpu.device, &gpu.queue, data);
-        let textures = TextureArrays::new(&gpu.device, &gpu.queue, scene.textures()).map_err(|e| UserError::in_file(&scene.path, e))?;
+        let textures = TextureArrays::new(&gpu.device, &gpu.queue, scene.textures());
+        // Both scopes are popped before any error returns: a scope left
+        // pushed would swallow the device's later errors.
         let refused = [pollster::block_on(invalid.pop()), pollster::block_on(oom.pop())];
         if let Some(e) = refused.into_iter().flatten().next() {
-            return Err(UserError::new(format!("{} refused the scene's buffers: {e}; use fewer or smaller meshes", gpu.describe())));
+            return Err(UserError::new(format!("{} refused the scene's buffers or textures: {e}; use fewer or smaller meshes and textures", gpu.describe())));
         }
+        let textures = textures.map_err(|e| UserError::in_file(&scene.path, e))?;
         Ok(SceneGpu { scene, bvh, bvh_stats, buffers, textures, offset_scale, origin, bounds, pinned: false })
     }
 
@@ -105,8 +108,15 @@ impl SceneGpu {
     /// mean position; the camera's where there are none).
     pub fn probe_grid(&self, probes: Option<crate::graph::desc::ProbesDesc>) -> Option<crate::probes::ProbeGrid> {
         let (p, (lo, hi)) = (probes?, self.bounds?);
-        // (Every frame: a sum over the lights, no allocation.)
-        let (sum, n) = self.scene.world.query::<(&Transform, &Light)>().iter().fold((DVec3::ZERO, 0.0), |(s, n), (t, _)| (s + t.translation, n + 1.0));
+        // (Every frame: a sum over the lights, no allocation. A directional
+        // light has no place.)
+        let (sum, n) = self
+            .scene
+            .world
+            .query::<(&Transform, &Light)>()
+            .iter()
+            .filter(|(_, l)| !matches!(l, Light::Directional { .. }))
+            .fold((DVec3::ZERO, 0.0), |(s, n), (t, _)| (s + t.translation, n + 1.0));
         let toward = if n > 0.0 { sum / n } else { self.scene.camera.position };
         crate::probes::ProbeGrid::over_bounds((lo - self.origin).as_vec3(), (hi - self.origin).as_vec3(), p.level, p.padding, (toward - self.origin).as_vec3())
     }

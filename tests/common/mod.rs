@@ -177,3 +177,18 @@ pub fn mean_rgb(img: &ImageF32) -> f64 {
 pub fn luminance(p: &[f32; 4]) -> f64 {
     0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
 }
+
+/// Runs the glint binary in the repository root with `env` added (on
+/// Vulkan unless WGPU_BACKEND says otherwise): (exit code, stdout,
+/// stderr). A panic fails the test whatever the exit code.
+pub fn run_glint(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_glint"));
+    cmd.args(args).current_dir(repo()).env("WGPU_BACKEND", std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into()));
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let out = cmd.output().expect("run glint");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
+}

@@ -104,8 +104,9 @@ pub(crate) struct GltfLoaded {
     pub materials_base: Option<u32>,
     /// The glTF default material's id in the scene, once used.
     pub default_material: Option<u32>,
-    /// Per glTF mesh: its scene mesh for instances that share it.
-    pub shared: Vec<Option<usize>>,
+    /// Per glTF mesh: its scene mesh for instances that share it, and how
+    /// far that mesh reaches from its origin.
+    pub shared: Vec<Option<(usize, f64)>>,
 }
 
 impl GltfLoaded {
