@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 pub mod blue_noise;
+pub mod brdf;
 pub mod bvh;
 pub mod camera_path;
 #[cfg(test)]

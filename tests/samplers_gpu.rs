@@ -1,12 +1,14 @@
 //! The WGSL samplers draw the samples their Rust mirror draws (which the
 //! chi-square tests in src/chi2.rs prove): the same random stream, the same
-//! cosine-hemisphere, sphere-light-cone and glossy-lobe directions, for
+//! cosine-hemisphere, sphere-light-cone and glossy-lobe directions, and the
+//! metallic-roughness BRDF's samples, values and pdfs (src/brdf.rs), for
 //! the same seeds.
 
 mod common;
 
 use common::*;
 use glam::Vec3;
+use glint::brdf::{self, MetalRough};
 use glint::graph::CompileOptions;
 use glint::sampling::{sample_cone, sample_cosine, sample_glossy, Rng};
 
@@ -16,14 +18,16 @@ fn wgsl_samplers_draw_what_the_mirror_draws() {
     let scene = load_scene("cornell.ron");
     let compiled = compile(&scene, &repo().join("tests/graphs/samplers.ron"), &CompileOptions::default());
     let seed = 1;
-    let mut s = session(gpu, scene, &compiled, (1024, 4), seed);
+    let mut s = session(gpu, scene, &compiled, (1024, 6), seed);
     s.frame(0.0);
     let img = s.read_output().unwrap_or_else(|e| panic!("{e}"));
     let normal = Vec3::new(0.267_261_24, 0.534_522_5, 0.801_783_7);
     let axis = Vec3::new(-0.2, 0.5, 0.84).normalize();
     let one_minus_cos = 0.001_250_782_3f32;
     let mirror = Vec3::new(0.6, -0.1, 0.793_725_4).normalize();
-    let mut worst = [0.0f32; 4];
+    let view = Vec3::new(0.8, 0.1, 0.591_607_96);
+    let m = MetalRough { base: Vec3::new(0.9, 0.6, 0.3), metallic: 0.5, roughness: 0.4 };
+    let mut worst = [0.0f32; 6];
     for x in 0..img.width {
         let draw = |row: u32| Rng::new((x, row), 0, 0xc41, seed).next2();
         let u = draw(2);
@@ -36,8 +40,19 @@ fn wgsl_samplers_draw_what_the_mirror_draws() {
             let err = (Vec3::new(g[0], g[1], g[2]) - w).abs().max_element();
             worst[row] = worst[row].max(err);
         }
+        let mut rng = Rng::new((x, 4), 0, 0xc41, seed);
+        let u_lobe = rng.next_f32();
+        let l = brdf::sample(&m, normal, view, u_lobe, rng.next2());
+        let g = img.get(x, 4);
+        worst[4] = worst[4].max((Vec3::new(g[0], g[1], g[2]) - l).abs().max_element());
+        // Values and pdfs relative to their size (a sharp lobe's pdf is large).
+        let (f, p) = (brdf::eval(&m, normal, view, l), brdf::pdf(&m, normal, view, l));
+        let g = img.get(x, 5);
+        let rel = |a: f32, b: f32| (a - b).abs() / b.abs().max(1.0);
+        worst[5] = worst[5].max(rel(g[0], f.x).max(rel(g[1], f.y)).max(rel(g[2], f.z)).max(rel(g[3], p)));
     }
-    eprintln!("largest component difference, GPU against mirror: cosine {:.1e}, cone {:.1e}, glossy {:.1e}", worst[0], worst[1], worst[3]);
+    eprintln!("largest component difference, GPU against mirror: cosine {:.1e}, cone {:.1e}, glossy {:.1e}, metallic-roughness sample {:.1e}, value and pdf {:.1e}", worst[0], worst[1], worst[3], worst[4], worst[5]);
     // sin, cos and sqrt may differ by an ulp or two between the driver and Rust.
-    assert!(worst.iter().all(|&w| w < 1e-5), "the WGSL samplers differ from the mirror: {worst:?}");
+    // (The BRDF's values and pdfs, relative, through a few more of them.)
+    assert!(worst[..5].iter().all(|&w| w < 1e-5) && worst[5] < 1e-4, "the WGSL samplers differ from the mirror: {worst:?}");
 }
