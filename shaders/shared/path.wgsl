@@ -1,7 +1,9 @@
 // A Monte Carlo path (thesis 2.4): Lambertian diffuse and a specular lobe
 // chosen with probability `specular` (mirror direction blended toward a
 // diffuse one by `roughness`). Next-event estimation on the diffuse lobe,
-// combined with BSDF sampling by the power heuristic. Shared by the path
+// combined with BSDF sampling by the power heuristic. A metallic-roughness
+// surface (shared/brdf.wgsl) takes next-event estimation and samples its
+// whole BRDF, both weighted by the power heuristic. Shared by the path
 // tracer and the probe bakes (shaders/probes_*.wgsl).
 #import flat
 #import lights
@@ -70,6 +72,11 @@ fn start_blue_noise(pixel: vec2u, frame_index: u32, rng_key: u32) {
 // seed), pixel), so a pass can trace last frame's path again
 // (shaders/realtime/gradient.wgsl).
 const PATH_RENDER_SALT: u32 = 0x70617468u;
+
+// A metallic-roughness material's BRDF inputs.
+fn as_metal_rough(m: Material) -> MetalRough {
+    return MetalRough(m.albedo, m.metallic, m.roughness);
+}
 
 // a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
 // the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
@@ -140,14 +147,20 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     if recording {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-        let view_dependent = select(m.specular, 1.0, depth > 0u);
+        var view_dependent = select(m.specular, 1.0, depth > 0u);
+        if is_metal_rough(m) && depth == 0u {
+            // The share of what it shows that depends on the view, roughly.
+            view_dependent = mr_specular_probability(as_metal_rough(m), abs(dot(hit.normal, rd))) * (1.0 - m.roughness);
+        }
         path_primary_normal = select(vec4f(facing, view_dependent), vec4f(0.0), !hit_found(hit));
         path_primary_ids = select(vec4u(hit.material, hit.object, bitcast<u32>(gbuffer_offset_error(hit)), hit.prim), vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), !hit_found(hit));
         path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0;
         path_primary_direct = vec3f(0.0);
     }
-    // This hit's diffuse direct light is another pass's (FIRST_DIRECT_APART).
-    let direct_apart = FIRST_DIRECT_APART && recording && !path_primary_open;
+    // This hit's diffuse direct light is another pass's (FIRST_DIRECT_APART;
+    // that pass shades Lambert surfaces only: a metallic-roughness one
+    // takes its own).
+    let direct_apart = FIRST_DIRECT_APART && recording && !path_primary_open && !is_metal_rough(m);
     let light_hit_apart = (*st).direct_apart;
     (*st).direct_apart = false;
     if !hit_found(hit) {
@@ -225,6 +238,8 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         // (Skipped as a whole under FIRST_DIRECT_APART: a loop count that
         // is not a constant would keep the shadow test of lights before the
         // last, which a one-light scene folds away, and cost 1.3x the pass.)
+        let mr = as_metal_rough(m);
+        let metal_rough = is_metal_rough(m);
         if !direct_apart {
             for (var j = 0u; j < lights; j++) {
                 let i = first + j;
@@ -235,11 +250,18 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
                 if !s.valid || cos_n <= 0.0 || dot(s.dir, ng) <= 0.0 {
                     continue;
                 }
+                // The BRDF toward the light and the pdf of sampling it.
+                var f = m.albedo / PI;
+                var f_pdf = cos_n / PI;
+                if metal_rough {
+                    f = mr_eval(mr, n, -rd, s.dir);
+                    f_pdf = mr_pdf(mr, n, -rd, s.dir);
+                }
                 var w = 1.0;
                 if s.pdf > 0.0 {
-                    w = power_heuristic(s.pdf * chosen, cos_n / PI);
+                    w = power_heuristic(s.pdf * chosen, f_pdf);
                 }
-                let light = (*st).throughput * m.albedo / PI * s.weight * cos_n * w / chosen;
+                let light = (*st).throughput * f * s.weight * cos_n * w / chosen;
                 if i + 1u == light_count() {
                     out.shadow_dir = s.dir;
                     out.shadow_tmax = shadow_ray_length(s);
@@ -249,15 +271,31 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
                 }
             }
         }
-        let dir = sample_cosine(n, select(rand2(rng), path_bn.a.xy, blue));
-        let cos_d = dot(n, dir);
-        go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0);
-        if go_on {
-            (*st).throughput *= m.albedo;
-            (*st).bsdf_pdf = cos_d / PI;
-            (*st).rd = dir;
-            (*st).cone.y = max((*st).cone.y, 1.0);
-            (*st).direct_apart = direct_apart;
+        let u_dir = select(rand2(rng), path_bn.a.xy, blue);
+        if metal_rough {
+            // The whole BRDF, sampled as a mixture of its lobes (the lobe
+            // chosen with u_lobe, which the thesis's specular test drew).
+            let dir = mr_sample(mr, n, -rd, u_lobe, u_dir);
+            let cos_d = dot(n, dir);
+            let pdf = mr_pdf(mr, n, -rd, dir);
+            go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0 || pdf <= 0.0);
+            if go_on {
+                (*st).throughput *= mr_eval(mr, n, -rd, dir) * cos_d / pdf;
+                (*st).bsdf_pdf = pdf;
+                (*st).rd = dir;
+                (*st).cone.y = max((*st).cone.y, m.roughness * m.roughness);
+            }
+        } else {
+            let dir = sample_cosine(n, u_dir);
+            let cos_d = dot(n, dir);
+            go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0);
+            if go_on {
+                (*st).throughput *= m.albedo;
+                (*st).bsdf_pdf = cos_d / PI;
+                (*st).rd = dir;
+                (*st).cone.y = max((*st).cone.y, 1.0);
+                (*st).direct_apart = direct_apart;
+            }
         }
     }
     if go_on {

@@ -1,5 +1,6 @@
 // The scene's arrays (mirrors src/scene/gpu_types.rs). Counts live in `frame`.
 #import frame
+#import brdf
 
 // Spheres and triangles, what traversal reads at every step, live in
 // read-only rgba32uint storage textures: record i is texels
@@ -39,11 +40,27 @@ struct Mesh {
     count: u32,
 }
 
+// Thesis (model MATERIAL_THESIS): albedo, a specular lobe taken with
+// probability `specular`, leaning from the mirror toward a diffuse
+// direction by `roughness`. Metallic-roughness (MATERIAL_METALLIC_ROUGHNESS,
+// shared/brdf.wgsl): albedo is the base colour, roughness glTF's, specular
+// 0. Three texels (src/scene/gpu_types.rs, MaterialGpu).
 struct Material {
     albedo: vec3f,
     specular: f32,
     emission: vec3f,
     roughness: f32,
+    metallic: f32,
+    model: u32,
+}
+
+const MATERIAL_THESIS: u32 = 0u;
+const MATERIAL_METALLIC_ROUGHNESS: u32 = 1u;
+// Some material of the scene is metallic-roughness.
+override SCENE_METALLIC_ROUGHNESS: bool = true;
+
+fn is_metal_rough(m: Material) -> bool {
+    return SCENE_METALLIC_ROUGHNESS && m.model == MATERIAL_METALLIC_ROUGHNESS;
 }
 
 const LIGHT_POINT: u32 = 0u;
@@ -188,9 +205,14 @@ fn load_light(i: u32) -> Light {
 // Material i, its specular share a constant 0 where no surface of the
 // scene reflects (reflection and mirror-bounce code folds away).
 fn load_material(i: u32) -> Material {
-    let a = bitcast<vec4f>(scene_texel(scene_materials, 2u * i));
-    let b = bitcast<vec4f>(scene_texel(scene_materials, 2u * i + 1u));
-    var m = Material(a.xyz, a.w, b.xyz, b.w);
+    let a = bitcast<vec4f>(scene_texel(scene_materials, 3u * i));
+    let b = bitcast<vec4f>(scene_texel(scene_materials, 3u * i + 1u));
+    var m = Material(a.xyz, a.w, b.xyz, b.w, 0.0, MATERIAL_THESIS);
+    if SCENE_METALLIC_ROUGHNESS {
+        let c = scene_texel(scene_materials, 3u * i + 2u);
+        m.metallic = bitcast<f32>(c.x);
+        m.model = c.y;
+    }
     if !SCENE_SPECULAR {
         m.specular = 0.0;
     }
@@ -204,7 +226,7 @@ fn material_specular(i: u32) -> f32 {
     if !SCENE_SPECULAR {
         return 0.0;
     }
-    return bitcast<f32>(scene_texel(scene_materials, 2u * i).w);
+    return bitcast<f32>(scene_texel(scene_materials, 3u * i).w);
 }
 
 fn is_emissive(m: Material) -> bool {
@@ -234,7 +256,12 @@ fn unlit_radiance(m: Material, miss: bool) -> vec3f {
 // material, not from an albedo pass's texture, which holds the same for a
 // lit surface: a load from the small material table costs no more than one
 // from a full-screen texture.
+// A metallic-roughness surface's diffuse lobe, what its Fresnel lets
+// through head-on (its specular lobe is not shaded by these passes yet).
 fn diffuse_albedo(m: Material) -> vec3f {
+    if is_metal_rough(m) {
+        return m.albedo * (1.0 - m.metallic) * (1.0 - DIELECTRIC_F0);
+    }
     return m.albedo * (1.0 - m.specular);
 }
 

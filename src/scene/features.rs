@@ -69,6 +69,8 @@ pub struct SceneFeatures {
     pub directional_lights: bool,
     /// Some material is alpha-tested (alphaMode MASK).
     pub alpha_mask: bool,
+    /// Some object's material is glTF's metallic-roughness (src/brdf.rs).
+    pub metal_rough: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
     pub lights: u32,
     /// Rays test every primitive instead of walking a BVH (at most
@@ -98,6 +100,7 @@ impl SceneFeatures {
             spot_lights: true,
             directional_lights: true,
             alpha_mask: true,
+            metal_rough: true,
             lights: u32::MAX,
             flat: false,
             enclosing_lights: true,

@@ -77,18 +77,50 @@ pub struct MeshGpu {
     pub count: u32,
 }
 
-/// `struct Material` (32 bytes).
+/// `MaterialGpu::model` of the thesis material: Lambert diffuse plus a
+/// specular lobe taken with probability `specular`.
+pub const MATERIAL_THESIS: u32 = 0;
+/// `MaterialGpu::model` of glTF's metallic-roughness material (src/brdf.rs):
+/// `albedo` is the base colour, `roughness` glTF's perceptual roughness.
+pub const MATERIAL_METALLIC_ROUGHNESS: u32 = 1;
+
+/// `struct Material` (48 bytes, three texels).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct MaterialGpu {
-    /// Diffuse reflectance, linear RGB in 0..1.
+    /// Diffuse reflectance (the base colour), linear RGB in 0..1.
     pub albedo: [f32; 3],
-    /// Probability of the specular lobe, 0..1.
+    /// Probability of the specular lobe, 0..1 (0 for metallic-roughness).
     pub specular: f32,
     /// Emitted radiance, linear RGB.
     pub emission: [f32; 3],
-    /// How far the specular lobe leans from the mirror direction (0) toward a diffuse one (1).
+    /// Thesis: how far the specular lobe leans from the mirror direction
+    /// (0) toward a diffuse one (1). Metallic-roughness: GGX's alpha is
+    /// its square.
     pub roughness: f32,
+    /// Metalness, 0..1 (metallic-roughness only).
+    pub metallic: f32,
+    /// `MATERIAL_THESIS` or `MATERIAL_METALLIC_ROUGHNESS`.
+    pub model: u32,
+    /// Padding to the third texel's end.
+    pub _pad: [u32; 2],
+}
+
+impl MaterialGpu {
+    /// A thesis material.
+    pub const fn thesis(albedo: [f32; 3], specular: f32, emission: [f32; 3], roughness: f32) -> MaterialGpu {
+        MaterialGpu { albedo, specular, emission, roughness, metallic: 0.0, model: MATERIAL_THESIS, _pad: [0; 2] }
+    }
+
+    /// A metallic-roughness material.
+    pub const fn metal_rough(base: [f32; 3], metallic: f32, roughness: f32, emission: [f32; 3]) -> MaterialGpu {
+        MaterialGpu { albedo: base, specular: 0.0, emission, roughness, metallic, model: MATERIAL_METALLIC_ROUGHNESS, _pad: [0; 2] }
+    }
+
+    /// Whether it is a metallic-roughness material.
+    pub fn is_metal_rough(&self) -> bool {
+        self.model == MATERIAL_METALLIC_ROUGHNESS
+    }
 }
 
 /// `LightGpu::kind` of a point light.

@@ -21,12 +21,7 @@ use super::world::{
 use crate::error::{ron_error, UserError};
 
 /// Used by OBJ faces that have neither an MTL material nor a `material:`.
-const DEFAULT_MATERIAL: MaterialGpu = MaterialGpu {
-    albedo: [0.8; 3],
-    specular: 0.0,
-    emission: [0.0; 3],
-    roughness: 1.0,
-};
+const DEFAULT_MATERIAL: MaterialGpu = MaterialGpu::thesis([0.8; 3], 0.0, [0.0; 3], 1.0);
 
 /// The file kinds `load` opens: a RON scene, or an OBJ or glTF file
 /// opened as a scene of its own.
@@ -132,11 +127,9 @@ impl<'a, 'l> Builder<'a, 'l> {
                 return Err(loc.err(&at, format!("material \"{name}\" is defined twice")));
             }
             self.names.push(name);
-            self.materials.push(MaterialGpu {
-                albedo: m.albedo,
-                specular: m.specular,
-                emission: m.emission,
-                roughness: m.roughness,
+            self.materials.push(match m.metallic {
+                Some(metallic) => MaterialGpu::metal_rough(m.albedo, metallic, m.roughness, m.emission),
+                None => MaterialGpu::thesis(m.albedo, m.specular, m.emission, m.roughness),
             });
         }
 
@@ -238,12 +231,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                 } => {
                     // Rays can hit a sphere light: it gets an emissive,
                     // non-reflecting material of its own.
-                    let material = self.push_material(MaterialGpu {
-                        albedo: [0.0; 3],
-                        specular: 0.0,
-                        emission: radiance,
-                        roughness: 1.0,
-                    });
+                    let material = self.push_material(MaterialGpu::thesis([0.0; 3], 0.0, radiance, 1.0));
                     let radiance = Vec3::from_array(radiance);
                     e.add(Light::Sphere { radius, radiance })
                         .add(MaterialId(material));
@@ -309,9 +297,10 @@ impl<'a, 'l> Builder<'a, 'l> {
             }
             features.point_lights = true;
         }
-        let (specular, emissive) = self.used_material_features();
+        let (specular, emissive, metal_rough) = self.used_material_features();
         features.specular = specular;
         features.emissive = emissive;
+        features.metal_rough = metal_rough;
         let used = |f: &dyn Fn(&MaterialTextures) -> bool| {
             self.meshes.iter().flat_map(|m| &m.triangles).any(|t| self.material_textures.get(t.material as usize).is_some_and(f))
         };
@@ -519,9 +508,9 @@ impl<'a, 'l> Builder<'a, 'l> {
         }
     }
 
-    /// (specular, emissive) over the materials that objects use; sphere
-    /// lights' own materials do not count.
-    fn used_material_features(&mut self) -> (bool, bool) {
+    /// (specular, emissive, metallic-roughness) over the materials that
+    /// objects use; sphere lights' own materials do not count.
+    fn used_material_features(&mut self) -> (bool, bool, bool) {
         let mut used = vec![false; self.materials.len()];
         let spheres = self
             .world
@@ -538,10 +527,11 @@ impl<'a, 'l> Builder<'a, 'l> {
                 *u = true;
             }
         }
-        let mut flags = (false, false);
+        let mut flags = (false, false, false);
         for (m, _) in self.materials.iter().zip(&used).filter(|(_, u)| **u) {
             flags.0 |= m.specular > 0.0;
             flags.1 |= m.emission.iter().any(|&e| e > 0.0);
+            flags.2 |= m.is_metal_rough();
         }
         flags
     }

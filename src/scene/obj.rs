@@ -256,12 +256,7 @@ fn map_material(m: &tobj::Material) -> Result<MaterialGpu, String> {
     } else {
         1.0
     };
-    Ok(MaterialGpu {
-        albedo: albedo.map(|c| c.clamp(0.0, 1.0)),
-        specular,
-        emission: emission.map(|c| c.max(0.0)),
-        roughness,
-    })
+    Ok(MaterialGpu::thesis(albedo.map(|c| c.clamp(0.0, 1.0)), specular, emission.map(|c| c.max(0.0)), roughness))
 }
 
 #[cfg(test)]

@@ -52,6 +52,10 @@ pub(crate) struct MaterialDesc {
     pub albedo: V3,
     #[serde(default)]
     pub specular: f32,
+    /// Given: glTF's metallic-roughness material (albedo its base colour,
+    /// roughness its perceptual roughness), with no specular share.
+    #[serde(default)]
+    pub metallic: Option<f32>,
     #[serde(default)]
     pub roughness: f32,
     #[serde(default)]

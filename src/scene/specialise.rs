@@ -53,8 +53,11 @@ pub const SCENE_DIRECTIONAL_LIGHTS: &str = "SCENE_DIRECTIONAL_LIGHTS";
 /// Whether some material is alpha-tested (shared/textures.wgsl, alpha_passes).
 pub const SCENE_ALPHA_MASK: &str = "SCENE_ALPHA_MASK";
 
+/// Whether some material is glTF's metallic-roughness (shared/brdf.wgsl).
+pub const SCENE_METALLIC_ROUGHNESS: &str = "SCENE_METALLIC_ROUGHNESS";
+
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 11] = [
+pub const GENERIC: [(&str, bool); 12] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -66,6 +69,7 @@ pub const GENERIC: [(&str, bool); 11] = [
     (SCENE_SPOT_LIGHTS, true),
     (SCENE_ALPHA_MASK, true),
     (SCENE_DIRECTIONAL_LIGHTS, true),
+    (SCENE_METALLIC_ROUGHNESS, true),
 ];
 
 /// The specialisations for a scene with `f`: only the constants that
@@ -110,6 +114,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     if !f.directional_lights {
         out.push(Specialisation { constant: SCENE_DIRECTIONAL_LIGHTS, value: false, reason: "no directional lights: their sampling compiled out" });
     }
+    if !f.metal_rough {
+        out.push(Specialisation { constant: SCENE_METALLIC_ROUGHNESS, value: false, reason: "no metallic-roughness material: its BRDF compiled out" });
+    }
     out
 }
 
@@ -133,16 +140,16 @@ mod tests {
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
         // One that may hold a surface or the camera keeps sampling from inside.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
     }
 
     #[test]

@@ -132,12 +132,7 @@ fn cornell_packs_quads_spheres_and_the_light() {
     assert_eq!(d.materials[3].specular, 1.0);
     assert_eq!(
         d.materials[4],
-        MaterialGpu {
-            albedo: [0.0; 3],
-            specular: 0.0,
-            emission: [10.0; 3],
-            roughness: 1.0
-        }
+        MaterialGpu::thesis([0.0; 3], 0.0, [10.0; 3], 1.0)
     );
 
     for (i, m) in d.meshes.iter().enumerate() {

@@ -191,6 +191,15 @@ pub(crate) fn material(i: usize, name: &str, m: &MaterialDesc, loc: &Locator) ->
         ));
     }
     ctx.unit("specular", m.specular)?;
+    if let Some(metallic) = m.metallic {
+        ctx.unit("metallic", metallic)?;
+        if m.specular > 0.0 {
+            return Err(ctx.err(
+                "metallic",
+                "a material has `specular` (the thesis material) or `metallic` (glTF's metallic-roughness), not both",
+            ));
+        }
+    }
     ctx.unit("roughness", m.roughness)?;
     ctx.color("emission", m.emission)?;
     Ok(())

@@ -1,14 +1,14 @@
-//! glTF metallic-roughness materials as glint's thesis material, until the
-//! metallic-roughness BRDF lands (docs/scenes.md, "glTF"): albedo = base
-//! colour factor, specular share = metallic, roughness = roughness,
-//! emission = emissive factor x emissive strength. Textures are not read
-//! yet; the loader says so once.
+//! glTF metallic-roughness materials (docs/scenes.md, "glTF"; the BRDF is
+//! src/brdf.rs): base colour, metallic and roughness factors as they are,
+//! emission = emissive factor x emissive strength. Base colour and
+//! emissive textures are read (textures.rs); the others not yet, which the
+//! loader says once.
 
 use super::super::gpu_types::MaterialGpu;
 
 /// The glTF default material (no `material` on a primitive): white,
 /// metallic 1, roughness 1, as the spec's defaults give.
-pub(crate) const DEFAULT: MaterialGpu = MaterialGpu { albedo: [1.0; 3], specular: 1.0, emission: [0.0; 3], roughness: 1.0 };
+pub(crate) const DEFAULT: MaterialGpu = MaterialGpu::metal_rough([1.0; 3], 1.0, 1.0, [0.0; 3]);
 
 /// Material `m` in glint's terms; values outside glTF's ranges are errors.
 pub(crate) fn convert(m: &gltf::Material) -> Result<MaterialGpu, String> {
@@ -36,7 +36,7 @@ pub(crate) fn convert(m: &gltf::Material) -> Result<MaterialGpu, String> {
     for (k, e) in emission.iter_mut().enumerate() {
         *e = unit("emissiveFactor", m.emissive_factor()[k])? * strength;
     }
-    Ok(MaterialGpu { albedo, specular: metallic, emission, roughness })
+    Ok(MaterialGpu::metal_rough(albedo, metallic, roughness, emission))
 }
 
 /// What the conversion leaves out for the materials of `doc`, one line each

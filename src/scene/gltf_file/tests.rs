@@ -157,7 +157,7 @@ fn strips_normals_lights_cameras_and_materials_convert() {
     let f = read(&write_json(&scratch("strip"), &v)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(f.meshes[0].len(), 2, "a strip of four vertices is two triangles");
     assert!(f.meshes[0].iter().all(|t| t.n == [Vec3::Z; 3]), "both face +z: the strip's second triangle turns back");
-    assert_eq!(f.materials, vec![MaterialGpu { albedo: [0.5, 0.25, 1.0], specular: 0.25, emission: [4.0, 2.0, 0.0], roughness: 0.75 }]);
+    assert_eq!(f.materials, vec![MaterialGpu::metal_rough([0.5, 0.25, 1.0], 0.25, 0.75, [4.0, 2.0, 0.0])]);
     assert_eq!(f.lights[0], PointLight { position: DVec3::new(0.0, 3.0, 0.0), intensity: Vec3::new(1.0, 0.5, 0.25), spot: None, directional: None }, "683 cd is 1 W/sr");
     // The spot light: glTF's default cone (0 to pi/4) down the node's -z.
     let spot = f.lights[1].spot.expect("a cone");

@@ -1,0 +1,67 @@
+//! glTF's metallic-roughness material (src/brdf.rs) on the GPU: a white
+//! furnace for the path tracer, whose answer for a lone sphere is the
+//! BRDF's directional albedo, known in closed form head-on.
+
+mod common;
+
+use common::*;
+
+/// A sphere of `material` filling the view, alone in a uniform white sky:
+/// a convex surface never sees itself, so each pixel is the albedo of the
+/// BRDF for its view, E(v) (1 for a sky of 1). Returns the mean of the 5x5
+/// pixels about the centre (views within 2 degrees of head-on) and of every
+/// pixel on the sphere.
+fn furnace(material: &str) -> (f64, f64) {
+    let gpu = gpu().expect("checked by the caller");
+    let scene = scene_from(&format!(
+        r#"Scene(
+            camera: Camera(position: (0.0, 0.0, 4.0), target: (0.0, 0.0, 0.0), vfov_deg: 32.0),
+            background: (1.0, 1.0, 1.0),
+            materials: {{ "m": {material} }},
+            objects: [ Sphere(center: (0.0, 0.0, 0.0), radius: 1.0, material: "m") ],
+        )"#
+    ));
+    let img = render(gpu, scene, &repo().join("passes/pathtrace.ron"), (48, 48), 256, None);
+    let mut centre = 0.0;
+    for y in 22..27 {
+        for x in 22..27 {
+            centre += f64::from(img.get(x, y)[0]);
+        }
+    }
+    // The sphere covers the pixels whose centre ray meets it (radius 1 at
+    // 4: up to 14.5 degrees off the axis, the frame's half-height 16).
+    let (mut all, mut count) = (0.0, 0);
+    for y in 0..48u32 {
+        for x in 0..48u32 {
+            let (dx, dy) = ((x as f64 + 0.5) / 24.0 - 1.0, (y as f64 + 0.5) / 24.0 - 1.0);
+            let tan = (16f64).to_radians().tan() * (dx * dx + dy * dy).sqrt();
+            if tan < 0.9 * (1.0f64 / 15f64.sqrt()) {
+                all += f64::from(img.get(x, y)[0]);
+                count += 1;
+            }
+        }
+    }
+    (centre / 25.0, all / f64::from(count))
+}
+
+#[test]
+fn a_white_furnace_gives_the_brdf_albedo() {
+    if gpu().is_none() {
+        return;
+    }
+    // A white conductor seen head-on reflects 1 - ln 2 of the light at
+    // roughness 1 (alpha 1), and 0.9158 at roughness 0.5 (the 1-D integral
+    // in src/brdf/tests.rs); a white dielectric (1 - 0.04) + 0.04 x 0.92.
+    let cases = [
+        ("Material(albedo: (1.0, 1.0, 1.0), metallic: 1.0, roughness: 1.0)", 1.0 - 2f64.ln()),
+        ("Material(albedo: (1.0, 1.0, 1.0), metallic: 1.0, roughness: 0.5)", 0.9158),
+        ("Material(albedo: (1.0, 1.0, 1.0), metallic: 0.0, roughness: 0.5)", 0.96 + 0.04 * 0.9158),
+    ];
+    for (material, want) in cases {
+        let (centre, mean) = furnace(material);
+        eprintln!("{material}: head-on {centre:.4} (want {want:.4}), sphere mean {mean:.4}");
+        assert!((centre - want).abs() < 0.01, "{material}: head-on {centre}, want {want}");
+        // Energy: no view reflects more than arrives.
+        assert!(mean <= 1.0 + 0.005, "{material}: the sphere reflects {mean} of a sky of 1");
+    }
+}
