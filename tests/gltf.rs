@@ -41,8 +41,13 @@ fn a_gltf_mesh_renders_the_image_of_the_same_obj_mesh() {
     assert!(text.contains(&obj), "moving-lights.ron places the knot as {obj}");
     let by_ron = text.replace(&obj, &format!(r#"Gltf(path: "meshes/knot.gltf", {PLACED})"#));
     let by_nodes = text.replace(&obj, &format!("Gltf(path: {:?})", placed.display().to_string()));
+    // The OBJ with the glTF file's material (metallic-roughness, which an
+    // MTL file cannot say).
+    let gltf_material = r#"materials: { "knot-gltf": Material(albedo: (0.8, 0.55, 0.2), metallic: 0.0, roughness: 1.0),"#;
+    assert!(text.contains("materials: {"), "moving-lights.ron has a materials map");
+    let with_material = text.replacen("materials: {", gltf_material, 1).replace(&obj, &format!(r#"Mesh(path: "meshes/knot.obj", {PLACED}, material: "knot-gltf")"#));
     let graph = repo().join("passes/pathtrace.ron");
-    let reference = render(gpu, scene_from(&text), &graph, (64, 64), 8, None);
+    let reference = render(gpu, scene_from(&with_material), &graph, (64, 64), 8, None);
     for (how, scene) in [("the RON object", by_ron), ("the file's nodes", by_nodes)] {
         let image = render(gpu, scene_from(&scene), &graph, (64, 64), 8, None);
         let (flip, _) = metrics::flip(&reference, &image);
