@@ -10,6 +10,7 @@
 #import rng
 #import blue_noise
 #import textures
+#import brdf
 
 // The first hit of the last path traced, as the G-buffer stores it:
 // position and distance (direction and -1 on a miss), and the normal
@@ -154,7 +155,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         }
         path_primary_normal = select(vec4f(facing, view_dependent), vec4f(0.0), !hit_found(hit));
         path_primary_ids = select(vec4u(hit.material, hit.object, bitcast<u32>(gbuffer_offset_error(hit)), hit.prim), vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), !hit_found(hit));
-        path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0;
+        path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0 && !is_metal_rough(m);
         path_primary_direct = vec3f(0.0);
     }
     // This hit's diffuse direct light is another pass's (FIRST_DIRECT_APART;
@@ -211,7 +212,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     if blue {
         path_bn_pending = false;
     }
-    if SCENE_SPECULAR && u_lobe < m.specular {
+    // (A metallic-roughness surface's specular share is a stand-in for
+    // other passes: its whole BRDF is sampled below.)
+    if SCENE_SPECULAR && u_lobe < m.specular && !is_metal_rough(m) {
         var dir = reflect(rd, n);
         if m.roughness > 0.0 {
             dir = sample_glossy(dir, n, m.roughness, select(rand2(rng), path_bn.a.xy, blue));

@@ -1,6 +1,5 @@
 // The scene's arrays (mirrors src/scene/gpu_types.rs). Counts live in `frame`.
 #import frame
-#import brdf
 
 // Spheres and triangles, what traversal reads at every step, live in
 // read-only rgba32uint storage textures: record i is texels
@@ -43,8 +42,10 @@ struct Mesh {
 // Thesis (model MATERIAL_THESIS): albedo, a specular lobe taken with
 // probability `specular`, leaning from the mirror toward a diffuse
 // direction by `roughness`. Metallic-roughness (MATERIAL_METALLIC_ROUGHNESS,
-// shared/brdf.wgsl): albedo is the base colour, roughness glTF's, specular
-// 0. Three texels (src/scene/gpu_types.rs, MaterialGpu).
+// shared/brdf.wgsl): albedo is the base colour, roughness glTF's; its
+// `specular` is the stand-in share the passes that shade thesis lobes only
+// use (metallic + 0.04 (1 - metallic)). Three texels
+// (src/scene/gpu_types.rs, MaterialGpu).
 struct Material {
     albedo: vec3f,
     specular: f32,
@@ -256,12 +257,9 @@ fn unlit_radiance(m: Material, miss: bool) -> vec3f {
 // material, not from an albedo pass's texture, which holds the same for a
 // lit surface: a load from the small material table costs no more than one
 // from a full-screen texture.
-// A metallic-roughness surface's diffuse lobe, what its Fresnel lets
-// through head-on (its specular lobe is not shaded by these passes yet).
+// (A metallic-roughness surface's: base (1 - metallic) (1 - 0.04), what
+// its Fresnel lets through head-on.)
 fn diffuse_albedo(m: Material) -> vec3f {
-    if is_metal_rough(m) {
-        return m.albedo * (1.0 - m.metallic) * (1.0 - DIELECTRIC_F0);
-    }
     return m.albedo * (1.0 - m.specular);
 }
 

@@ -90,7 +90,10 @@ pub const MATERIAL_METALLIC_ROUGHNESS: u32 = 1;
 pub struct MaterialGpu {
     /// Diffuse reflectance (the base colour), linear RGB in 0..1.
     pub albedo: [f32; 3],
-    /// Probability of the specular lobe, 0..1 (0 for metallic-roughness).
+    /// Probability of the specular lobe, 0..1. Metallic-roughness: the
+    /// stand-in the passes that shade the thesis lobes only (the hybrid
+    /// graphs' lights and reflections) use, F0's share: metallic + 0.04
+    /// (1 - metallic).
     pub specular: f32,
     /// Emitted radiance, linear RGB.
     pub emission: [f32; 3],
@@ -114,7 +117,8 @@ impl MaterialGpu {
 
     /// A metallic-roughness material.
     pub const fn metal_rough(base: [f32; 3], metallic: f32, roughness: f32, emission: [f32; 3]) -> MaterialGpu {
-        MaterialGpu { albedo: base, specular: 0.0, emission, roughness, metallic, model: MATERIAL_METALLIC_ROUGHNESS, _pad: [0; 2] }
+        let specular = metallic + crate::brdf::DIELECTRIC_F0 * (1.0 - metallic);
+        MaterialGpu { albedo: base, specular, emission, roughness, metallic, model: MATERIAL_METALLIC_ROUGHNESS, _pad: [0; 2] }
     }
 
     /// Whether it is a metallic-roughness material.
