@@ -25,7 +25,7 @@ fn wgsl_samplers_draw_what_the_mirror_draws() {
     let axis = Vec3::new(-0.2, 0.5, 0.84).normalize();
     let one_minus_cos = 0.001_250_782_3f32;
     let mirror = Vec3::new(0.6, -0.1, 0.793_725_4).normalize();
-    let view = Vec3::new(0.8, 0.1, 0.591_607_96);
+    let view = Vec3::new(0.8, 0.1, 0.591_608);
     let m = MetalRough { base: Vec3::new(0.9, 0.6, 0.3), metallic: 0.5, roughness: 0.4 };
     let mut worst = [0.0f32; 6];
     for x in 0..img.width {
