@@ -33,7 +33,10 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // branch under a lane mask, so a store on each side costs two.
     // Two-sided surfaces: face the normals toward the viewer; w: the
     // specular share, so accumulate knows what is view-dependent.
-    let normal = vec4f(facing(hit, rd).n, material_specular(hit.material));
+    // (Bent by the material's normal texture, where it has one.)
+    var shaded = hit;
+    shaded.normal = mapped_normal(hit.material, hit.prim, hit.position, rd, hit.t * pixel_spread(), hit.normal);
+    let normal = vec4f(facing(shaded, rd).n, material_specular(hit.material));
     textureStore(gbuf_pos, id.xy, select(vec4f(rd, -1.0), vec4f(hit.position, hit.t), found));
     textureStore(gbuf_normal, id.xy, select(vec4f(0.0), normal, found));
     // z: the hit's error bound (f32 bits), which the passes that start

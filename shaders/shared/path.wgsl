@@ -144,14 +144,18 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     // specular share comes from the same two texels.
     (*st).cone.x += (*st).cone.y * hit.t;
     let m = material_at(hit.material, hit.prim, hit.position, rd, (*st).cone.x);
+    // The hit with its shading normal bent by the material's normal
+    // texture, if it has one.
+    var shaded = hit;
+    shaded.normal = mapped_normal(hit.material, hit.prim, hit.position, rd, (*st).cone.x, hit.normal);
     let recording = FIRST_HIT && (depth == 0u || (THROUGH_MIRRORS && path_primary_open));
     if recording {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
-        let facing = hit.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
+        let facing = shaded.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
         var view_dependent = select(m.specular, 1.0, depth > 0u);
         if is_metal_rough(m) && depth == 0u {
             // The share of what it shows that depends on the view, roughly.
-            view_dependent = mr_specular_probability(as_metal_rough(m), abs(dot(hit.normal, rd))) * (1.0 - m.roughness);
+            view_dependent = mr_specular_probability(as_metal_rough(m), abs(dot(shaded.normal, rd))) * (1.0 - m.roughness);
         }
         path_primary_normal = select(vec4f(facing, view_dependent), vec4f(0.0), !hit_found(hit));
         path_primary_ids = select(vec4u(hit.material, hit.object, bitcast<u32>(gbuffer_offset_error(hit)), hit.prim), vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), !hit_found(hit));
@@ -189,7 +193,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         return out; // lights do not reflect
     }
     out.ended = false;
-    let f = facing(hit, rd);
+    let f = facing(shaded, rd);
     let ng = f.ng;
     let n = f.n;
     let o = offset_ray(p, ng, hit.error);

@@ -6,6 +6,7 @@
 // cosine there, times the triangle's uv-to-world scale. With
 // SCENE_TEXTURES false (no material has a texture) all of it folds away.
 #import scene
+#import brdf
 
 override SCENE_TEXTURES: bool = true;
 // Some material is alpha-tested (alphaMode MASK): traversal asks
@@ -63,17 +64,20 @@ fn transform_uv(u: vec4f, v: vec4f, uv: vec2f) -> vec3f {
     return vec3f(dot(u.xyz, vec3f(uv, 1.0)), dot(v.xyz, vec3f(uv, 1.0)), 0.5 * log2(max(det, 1e-30)));
 }
 
-// Material `id` at point p of triangle `prim` (NO_OBJECT: a sphere, or
-// nothing was hit), reached along rd by a ray cone `width` wide there.
-fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material {
-    var m = load_material(id);
-    if !SCENE_TEXTURES || prim == NO_OBJECT {
-        return m;
-    }
-    let slots = scene_texel(scene_material_textures, 5u * id);
-    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE {
-        return m;
-    }
+// Where point p of triangle `prim` lies in its texture space: its uv, the
+// log2 of a ray cone's footprint there in uv units (the cone `width`
+// wide at p, met along rd), and the triangle's edges in world and in uv
+// space (for a tangent frame).
+struct SurfaceUv {
+    uv: vec2f,
+    lod_uv: f32,
+    e1: vec3f,
+    e2: vec3f,
+    du1: vec2f,
+    du2: vec2f,
+}
+
+fn surface_uv(prim: u32, p: vec3f, rd: vec3f, width: f32) -> SurfaceUv {
     let p0 = load_triangle_vertex(prim, 0u);
     let e1 = load_triangle_vertex(prim, 1u) - p0;
     let e2 = load_triangle_vertex(prim, 2u) - p0;
@@ -99,20 +103,91 @@ fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material 
     let uv_area = abs(du1.x * du2.y - du1.y * du2.x);
     let cos_t = max(abs(dot(n, rd)) / max(world_area, 1e-30), 0.05);
     let lod_uv = log2(max(width * sqrt(uv_area / max(world_area, 1e-30)) / cos_t, 1e-30));
-    let wrap = vec4u(slots.z & 3u, (slots.z >> 2u) & 3u, (slots.z >> 4u) & 3u, (slots.z >> 6u) & 3u);
+    return SurfaceUv(uv, lod_uv, e1, e2, du1, du2);
+}
+
+// Material record texels (src/scene/gpu_types.rs, MaterialTexturesGpu).
+const MATERIAL_TEXTURE_TEXELS: u32 = 10u;
+
+fn material_texel(id: u32, k: u32) -> vec4u {
+    return scene_texel(scene_material_textures, MATERIAL_TEXTURE_TEXELS * id + k);
+}
+
+// Texture `slot` of material `id`, its transform at texels k, k + 1 and
+// its wrap bits at `shift` of `wrap_bits`, read at s.
+fn sample_material(id: u32, slot: u32, k: u32, wrap_bits: u32, shift: u32, s: SurfaceUv) -> vec4f {
+    let u = bitcast<vec4f>(material_texel(id, k));
+    let v = bitcast<vec4f>(material_texel(id, k + 1u));
+    let t = transform_uv(u, v, s.uv);
+    let wrap = vec2u((wrap_bits >> shift) & 3u, (wrap_bits >> (shift + 2u)) & 3u);
+    return sample_slot(slot, t.xy, wrap, s.lod_uv + t.z);
+}
+
+// Material `id` at point p of triangle `prim` (NO_OBJECT: a sphere, or
+// nothing was hit), reached along rd by a ray cone `width` wide there:
+// base colour, emission and (metallic-roughness materials) metalness and
+// roughness textures applied.
+fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material {
+    var m = load_material(id);
+    if !SCENE_TEXTURES || prim == NO_OBJECT {
+        return m;
+    }
+    let slots = material_texel(id, 0u);
+    var mr_slot = NO_TEXTURE;
+    if is_metal_rough(m) {
+        mr_slot = material_texel(id, 5u).x;
+    }
+    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE {
+        return m;
+    }
+    let s = surface_uv(prim, p, rd, width);
     if slots.x != NO_TEXTURE {
-        let u = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * id + 1u));
-        let v = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * id + 2u));
-        let t = transform_uv(u, v, uv);
-        m.albedo *= sample_slot(slots.x, t.xy, wrap.xy, lod_uv + t.z).rgb;
+        m.albedo *= sample_material(id, slots.x, 1u, slots.z, 0u, s).rgb;
     }
     if slots.y != NO_TEXTURE {
-        let u = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * id + 3u));
-        let v = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * id + 4u));
-        let t = transform_uv(u, v, uv);
-        m.emission *= sample_slot(slots.y, t.xy, wrap.zw, lod_uv + t.z).rgb;
+        m.emission *= sample_material(id, slots.y, 3u, slots.z, 4u, s).rgb;
+    }
+    if mr_slot != NO_TEXTURE {
+        // glTF: green is roughness, blue metalness (linear data).
+        let t = sample_material(id, mr_slot, 6u, slots.z, 8u, s);
+        m.roughness *= t.g;
+        m.metallic *= t.b;
+        m.specular = m.metallic + DIELECTRIC_F0 * (1.0 - m.metallic);
     }
     return m;
+}
+
+// The shading normal at point p of triangle `prim` of material `id`: `n`
+// (the interpolated normal, unflipped) bent by the material's normal
+// texture, if it has one, in the tangent frame the triangle's uvs give
+// (+x along u, +y toward the image's top, as glTF's normal textures are
+// written), Gram-Schmidt against n; n itself where the uvs are degenerate.
+fn mapped_normal(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) -> vec3f {
+    if !SCENE_TEXTURES || prim == NO_OBJECT {
+        return n;
+    }
+    let more = material_texel(id, 5u);
+    if more.y == NO_TEXTURE {
+        return n;
+    }
+    let s = surface_uv(prim, p, rd, width);
+    let det = s.du1.x * s.du2.y - s.du1.y * s.du2.x;
+    if abs(det) < 1e-20 {
+        return n;
+    }
+    let dpdu = (s.e1 * s.du2.y - s.e2 * s.du1.y) / det;
+    let dpdv = (s.e2 * s.du1.x - s.e1 * s.du2.x) / det;
+    let tu = dpdu - n * dot(n, dpdu);
+    if dot(tu, tu) <= 0.0 {
+        return n;
+    }
+    let t = normalize(tu);
+    // Up in the image is -v (glTF's v runs down it).
+    let b = cross(n, t) * select(1.0, -1.0, dot(cross(n, t), dpdv) > 0.0);
+    let c = sample_material(id, more.y, 8u, material_texel(id, 0u).z, 12u, s).xyz * 2.0 - 1.0;
+    let scale = bitcast<f32>(more.z);
+    let bent = t * (c.x * scale) + b * (c.y * scale) + n * c.z;
+    return select(n, normalize(bent), dot(bent, bent) > 0.0);
 }
 
 // The material a G-buffer pixel shows: ids as gbuffer.wgsl writes them
@@ -133,7 +208,7 @@ fn alpha_passes(material: u32, prim: u32, bary: vec2f) -> bool {
     if !SCENE_ALPHA_MASK {
         return true;
     }
-    let slots = scene_texel(scene_material_textures, 5u * material);
+    let slots = material_texel(material, 0u);
     let threshold = bitcast<f32>(slots.w);
     if threshold <= 0.0 {
         return true;
@@ -144,8 +219,8 @@ fn alpha_passes(material: u32, prim: u32, bary: vec2f) -> bool {
     let t01 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim));
     let t2 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim + 1u)).xy;
     let uv = (1.0 - bary.x - bary.y) * t01.xy + bary.x * t01.zw + bary.y * t2;
-    let u = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * material + 1u));
-    let v = bitcast<vec4f>(scene_texel(scene_material_textures, 5u * material + 2u));
+    let u = bitcast<vec4f>(material_texel(material, 1u));
+    let v = bitcast<vec4f>(material_texel(material, 2u));
     let t = transform_uv(u, v, uv);
     return sample_slot(slots.x, t.xy, vec2u(slots.z & 3u, (slots.z >> 2u) & 3u), -24.0).a >= threshold;
 }

@@ -168,10 +168,11 @@ pub struct TriangleUvGpu {
     pub _pad: [f32; 2],
 }
 
-/// `struct MaterialTextures` (80 bytes): a material's texture slots
-/// (`texture_classes::TextureLayout::slot`, `NO_TEXTURE` for none), their
-/// wrap modes (2 bits each: base s, base t, emissive s, emissive t; 0
-/// repeat, 1 clamp, 2 mirror) and their uv transforms (two rows each).
+/// `struct MaterialTextures` (160 bytes, ten texels): a material's texture
+/// slots (`texture_classes::TextureLayout::slot`, `NO_TEXTURE` for none),
+/// their wrap modes (2 bits each: base s, base t, emissive s, emissive t,
+/// metallic-roughness s, t, normal s, t; 0 repeat, 1 clamp, 2 mirror) and
+/// their uv transforms (two rows each).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct MaterialTexturesGpu {
@@ -192,12 +193,45 @@ pub struct MaterialTexturesGpu {
     pub emissive_u: [f32; 4],
     /// Row 1.
     pub emissive_v: [f32; 4],
+    /// Metallic-roughness slot.
+    pub metallic_roughness: u32,
+    /// Normal texture slot.
+    pub normal: u32,
+    /// The normal texture's scale.
+    pub normal_scale: f32,
+    /// Padding.
+    pub _pad: u32,
+    /// Metallic-roughness uv transform, row 0.
+    pub metallic_roughness_u: [f32; 4],
+    /// Row 1.
+    pub metallic_roughness_v: [f32; 4],
+    /// Normal uv transform, row 0.
+    pub normal_u: [f32; 4],
+    /// Row 1.
+    pub normal_v: [f32; 4],
 }
 
 impl Default for MaterialTexturesGpu {
     fn default() -> Self {
         let (u, v) = ([1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]);
-        MaterialTexturesGpu { base: u32::MAX, emissive: u32::MAX, wrap: 0, alpha_threshold: 0.0, base_u: u, base_v: v, emissive_u: u, emissive_v: v }
+        MaterialTexturesGpu {
+            base: u32::MAX,
+            emissive: u32::MAX,
+            wrap: 0,
+            alpha_threshold: 0.0,
+            base_u: u,
+            base_v: v,
+            emissive_u: u,
+            emissive_v: v,
+            metallic_roughness: u32::MAX,
+            normal: u32::MAX,
+            normal_scale: 1.0,
+            _pad: 0,
+            metallic_roughness_u: u,
+            metallic_roughness_v: v,
+            normal_u: u,
+            normal_v: v,
+        }
     }
 }
 

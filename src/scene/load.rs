@@ -304,7 +304,7 @@ impl<'a, 'l> Builder<'a, 'l> {
         let used = |f: &dyn Fn(&MaterialTextures) -> bool| {
             self.meshes.iter().flat_map(|m| &m.triangles).any(|t| self.material_textures.get(t.material as usize).is_some_and(f))
         };
-        features.textures = used(&|m| m.base_color.is_some() || m.emissive.is_some());
+        features.textures = used(&|m| m.base_color.is_some() || m.emissive.is_some() || m.metallic_roughness.is_some() || m.normal.is_some());
         features.alpha_mask = used(&|m| m.alpha_mask.is_some());
         features.lights = u32::try_from(desc.lights.len() + gltf_lights.len()).unwrap_or(u32::MAX);
         let c = &desc.camera;

@@ -114,19 +114,27 @@ impl Builder<'_, '_> {
     }
 
     /// The textures of file `g`'s materials (the first at scene material
-    /// `base`): each image used moves into the scene's textures once.
+    /// `base`): each image used moves into the scene's textures once per
+    /// use as colour (sRGB) or as data (linear: normals, metalness).
     fn gltf_textures(&mut self, g: usize, base: usize) {
-        let mut scene_index: Vec<Option<usize>> = vec![None; self.gltf_cache[g].file.images.len()];
+        let mut scene_index: Vec<[Option<usize>; 2]> = vec![[None; 2]; self.gltf_cache[g].file.images.len()];
         for k in 0..self.gltf_cache[g].file.material_textures.len() {
             let mt = self.gltf_cache[g].file.material_textures[k];
-            let mut slot = |r: Option<gltf_file::TextureRef>, builder: &mut Self| -> Option<TextureSlot> {
+            let mut slot = |r: Option<gltf_file::TextureRef>, linear: bool, builder: &mut Self| -> Option<TextureSlot> {
                 let r = r?;
-                let texture = match scene_index[r.image] {
+                let uses = &mut scene_index[r.image];
+                let texture = match uses[usize::from(linear)] {
                     Some(t) => t,
                     None => {
-                        let image = builder.gltf_cache[g].file.images[r.image].take()?;
+                        // Moved out on its first use, copied from there for
+                        // a use in the other colour space.
+                        let mut image = match uses[usize::from(!linear)] {
+                            Some(other) => builder.textures[other].clone(),
+                            None => builder.gltf_cache[g].file.images[r.image].take()?,
+                        };
+                        image.linear = linear;
                         builder.textures.push(image);
-                        scene_index[r.image] = Some(builder.textures.len() - 1);
+                        uses[usize::from(linear)] = Some(builder.textures.len() - 1);
                         builder.textures.len() - 1
                     }
                 };
@@ -137,7 +145,13 @@ impl Builder<'_, '_> {
                 });
                 Some(TextureSlot { texture, wrap, transform: r.transform })
             };
-            let textures = MaterialTextures { base_color: slot(mt.base_color, self), emissive: slot(mt.emissive, self), alpha_mask: mt.alpha_mask };
+            let textures = MaterialTextures {
+                base_color: slot(mt.base_color, false, self),
+                emissive: slot(mt.emissive, false, self),
+                alpha_mask: mt.alpha_mask,
+                metallic_roughness: slot(mt.metallic_roughness, true, self),
+                normal: mt.normal.and_then(|(r, scale)| Some((slot(Some(r), true, self)?, scale))),
+            };
             if textures != MaterialTextures::default() {
                 let id = base + k;
                 if self.material_textures.len() <= id {

@@ -285,6 +285,17 @@ impl Scene {
                 gpu.wrap |= (s.wrap[0] << 4) | (s.wrap[1] << 6);
                 (gpu.emissive_u, gpu.emissive_v) = (row(s.transform[0]), row(s.transform[1]));
             }
+            if let Some(s) = m.metallic_roughness {
+                gpu.metallic_roughness = layout.slot(s.texture);
+                gpu.wrap |= (s.wrap[0] << 8) | (s.wrap[1] << 10);
+                (gpu.metallic_roughness_u, gpu.metallic_roughness_v) = (row(s.transform[0]), row(s.transform[1]));
+            }
+            if let Some((s, scale)) = m.normal {
+                gpu.normal = layout.slot(s.texture);
+                gpu.normal_scale = scale;
+                gpu.wrap |= (s.wrap[0] << 12) | (s.wrap[1] << 14);
+                (gpu.normal_u, gpu.normal_v) = (row(s.transform[0]), row(s.transform[1]));
+            }
         }
         out
     }

@@ -80,8 +80,12 @@ pub fn mip_count(side: u32) -> u32 {
 }
 
 /// `image` as `side x side` sRGB RGBA8 levels, largest first, down to 1x1.
+/// A `linear` image's bytes are its values: they are averaged as they are
+/// and stored sRGB-encoded, so the sampler's decoding gives them back
+/// (to within a step of the sRGB curve: at most 1.2/255 near 1, less
+/// below).
 pub fn mip_chain(image: &TextureImage, side: u32) -> Vec<Vec<u8>> {
-    let lut = srgb_to_linear_table();
+    let lut = if image.linear { std::array::from_fn(|i| i as f32 / 255.0) } else { srgb_to_linear_table() };
     let (w, h) = (image.width as usize, image.height as usize);
     let s = side as usize;
     // Rows first, then columns; each source row decoded to linear light
@@ -182,7 +186,7 @@ mod tests {
 
     fn image(width: u32, height: u32, texel: impl Fn(u32, u32) -> [u8; 4]) -> TextureImage {
         let rgba = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).flat_map(|(x, y)| texel(x, y)).collect();
-        TextureImage { width, height, rgba }
+        TextureImage { width, height, rgba, linear: false }
     }
 
     #[test]

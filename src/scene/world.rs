@@ -63,6 +63,12 @@ pub struct MaterialTextures {
     /// alphaMode MASK: (cutoff, the base colour factor's alpha); the
     /// surface is there where factor x texture alpha >= cutoff.
     pub alpha_mask: Option<(f32, f32)>,
+    /// Metallic-roughness (green: roughness, blue: metalness; they multiply
+    /// the factors), linear.
+    pub metallic_roughness: Option<TextureSlot>,
+    /// Tangent-space normals, linear, with glTF's `scale` (x and y
+    /// multiplied by it).
+    pub normal: Option<(TextureSlot, f32)>,
 }
 
 /// One texture of a material.
@@ -76,8 +82,9 @@ pub struct TextureSlot {
     pub transform: [[f32; 3]; 2],
 }
 
-/// An image a texture reads: `width x height` sRGB RGBA8 texels, rows top
-/// first.
+/// An image a texture reads: `width x height` RGBA8 texels, rows top
+/// first; sRGB colour, or data (`linear`: normals, metalness and
+/// roughness), which is filtered as it is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TextureImage {
     /// Texels across.
@@ -86,6 +93,8 @@ pub struct TextureImage {
     pub height: u32,
     /// `width x height x 4` bytes.
     pub rgba: Vec<u8>,
+    /// Data rather than sRGB colour.
+    pub linear: bool,
 }
 
 impl TextureImage {
@@ -97,7 +106,7 @@ impl TextureImage {
         if width == 0 || height == 0 {
             return Err(format!("the image is empty ({width}x{height})"));
         }
-        Ok(TextureImage { width, height, rgba: rgba.into_raw() })
+        Ok(TextureImage { width, height, rgba: rgba.into_raw(), linear: false })
     }
 }
 

@@ -1,8 +1,8 @@
 //! glTF metallic-roughness materials (docs/scenes.md, "glTF"; the BRDF is
 //! src/brdf.rs): base colour, metallic and roughness factors as they are,
-//! emission = emissive factor x emissive strength. Base colour and
-//! emissive textures are read (textures.rs); the others not yet, which the
-//! loader says once.
+//! emission = emissive factor x emissive strength. Base colour, emissive,
+//! metallic-roughness and normal textures are read (textures.rs); occlusion
+//! textures are not (rays find occlusion), which the loader says once.
 
 use super::super::gpu_types::MaterialGpu;
 
@@ -45,14 +45,12 @@ pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
     let mut textured = 0;
     let mut blend = 0;
     for m in doc.materials() {
-        let pbr = m.pbr_metallic_roughness();
-        let any = pbr.metallic_roughness_texture().is_some() || m.normal_texture().is_some() || m.occlusion_texture().is_some();
-        textured += usize::from(any);
+        textured += usize::from(m.occlusion_texture().is_some());
         blend += usize::from(m.alpha_mode() == gltf::material::AlphaMode::Blend);
     }
     let mut out = Vec::new();
     if textured > 0 {
-        out.push(format!("{textured} material(s) have metallic-roughness, normal or occlusion textures, which glint does not read yet (it reads base colour and emissive textures)"));
+        out.push(format!("{textured} material(s) have occlusion textures, which glint does not read (rays find the occlusion themselves)"));
     }
     if blend > 0 {
         out.push(format!("{blend} material(s) use alphaMode BLEND, which glint renders as MASK at alpha 0.5"));

@@ -185,7 +185,7 @@ fn read_root(root: gltf::json::Root, blob: Option<Vec<u8>>, dir: &Path) -> Resul
         doc.materials().map(|m| textures::material_textures(&m, &format!("materials[{}]", m.index().unwrap_or(0)))).collect::<Result<Vec<_>, _>>()?;
     let mut images = vec![None; doc.images().len()];
     let mut files = buffers.files;
-    for t in material_textures.iter().flat_map(|m| [m.base_color, m.emissive]).flatten() {
+    for t in material_textures.iter().flat_map(|m| [m.base_color, m.emissive, m.metallic_roughness, m.normal.map(|n| n.0)]).flatten() {
         if images[t.image].is_none() {
             images[t.image] = Some(textures::decode(&doc, t.image, &buffers.data, dir, &mut files)?);
         }

@@ -28,11 +28,14 @@ pub(crate) struct TextureRef {
     pub transform: [[f32; 3]; 2],
 }
 
-/// The texture slots glint reads: base colour and emission (sRGB).
+/// The texture slots glint reads: base colour and emission (sRGB),
+/// metallic-roughness and normals (linear; the normal texture's scale).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct MaterialTextures {
     pub base_color: Option<TextureRef>,
     pub emissive: Option<TextureRef>,
+    pub metallic_roughness: Option<TextureRef>,
+    pub normal: Option<(TextureRef, f32)>,
     /// alphaMode MASK (and BLEND, as MASK at 0.5): (alphaCutoff, the base
     /// colour factor's alpha).
     pub alpha_mask: Option<(f32, f32)>,
@@ -54,18 +57,32 @@ pub(crate) fn material_textures(m: &gltf::Material, at: &str) -> Result<Material
         }
         gltf::material::AlphaMode::Blend => Some((0.5, factor)),
     };
+    let normal = match m.normal_texture() {
+        Some(t) => {
+            let scale = t.scale();
+            if !scale.is_finite() {
+                return Err(format!("{at}.normalTexture.scale: {scale} is not finite"));
+            }
+            // (gltf 1.4 does not hand a normal texture's KHR_texture_transform
+            // over: it is read untransformed.)
+            Some((texture_ref(&t.texture(), t.tex_coord(), None, &format!("{at}.normalTexture"))?, scale))
+        }
+        None => None,
+    };
+    let info = |t: gltf::texture::Info, at: String| texture_ref(&t.texture(), t.tex_coord(), t.texture_transform(), &at);
     Ok(MaterialTextures {
         alpha_mask,
-        base_color: pbr.base_color_texture().map(|t| texture_ref(&t, &format!("{at}.pbrMetallicRoughness.baseColorTexture"))).transpose()?,
-        emissive: m.emissive_texture().map(|t| texture_ref(&t, &format!("{at}.emissiveTexture"))).transpose()?,
+        base_color: pbr.base_color_texture().map(|t| info(t, format!("{at}.pbrMetallicRoughness.baseColorTexture"))).transpose()?,
+        emissive: m.emissive_texture().map(|t| info(t, format!("{at}.emissiveTexture"))).transpose()?,
+        metallic_roughness: pbr.metallic_roughness_texture().map(|t| info(t, format!("{at}.pbrMetallicRoughness.metallicRoughnessTexture"))).transpose()?,
+        normal,
     })
 }
 
-fn texture_ref(info: &gltf::texture::Info, at: &str) -> Result<TextureRef, String> {
-    let texture = info.texture();
-    let mut tex_coord = info.tex_coord();
+fn texture_ref(texture: &gltf::Texture, tex_coord: u32, transform_ext: Option<gltf::texture::TextureTransform>, at: &str) -> Result<TextureRef, String> {
+    let mut tex_coord = tex_coord;
     let mut transform = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-    if let Some(t) = info.texture_transform() {
+    if let Some(t) = transform_ext {
         let ([ox, oy], r, [sx, sy]) = (t.offset(), t.rotation(), t.scale());
         if ![ox, oy, r, sx, sy].iter().all(|x| x.is_finite()) {
             return Err(format!("{at}.extensions.KHR_texture_transform: a value is not finite"));
