@@ -518,6 +518,10 @@ fn bad_materials_are_reported() {
         5,
         "material \"red\": `albedo` components must be in 0..1",
     );
+    let text = scene(SPHERE, "").replace("(0.6, 0.1, 0.1))", "(0.6, 0.1, 0.1), metallic: 1.2)");
+    expect_err(&text, 5, "material \"red\": `metallic` must be in 0..1, got 1.2");
+    let text = scene(SPHERE, "").replace("(0.6, 0.1, 0.1))", "(0.6, 0.1, 0.1), specular: 0.5, metallic: 1.0)");
+    expect_err(&text, 5, "material \"red\": a material has `specular` (the thesis material) or `metallic`");
     let text = scene(SPHERE, "").replace("\"red\"", "\"white\"");
     expect_err(&text, 5, "material \"white\" is defined twice");
     let text = scene(SPHERE, "").replace(
