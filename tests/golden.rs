@@ -195,6 +195,9 @@ fn golden_images_of_every_pass() {
         ("hybrid-gi.ron", "cornell.ron"),
         ("realtime.ron", "cornell.ron"),
         ("realtime-restir.ron", "moving-lights.ron"),
+        // Textures (base colour, alpha mask, normal, metallic-roughness) and
+        // glTF's metallic-roughness material.
+        ("hybrid.ron", "textured.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }
@@ -204,7 +207,9 @@ fn golden_images_of_every_pass() {
     // first hit (pathtrace_gbuffer.wgsl), which leaves every other output
     // as it was.
     let stored = pathtrace_with_gbuffer("golden-first-hit");
-    count += golden_variant(&stored, "cornell.ron", "", &[], &mut failures);
+    for scene in ["cornell.ron", "textured.ron", "cornell-pbr.ron"] {
+        count += golden_variant(&stored, scene, "", &[], &mut failures);
+    }
     // Debug views: passes that run only when their resource is the output;
     // and the bench's query pass, which nothing in its graph reads (the
     // bench keeps it with `also_compute`).
