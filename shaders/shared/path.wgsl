@@ -143,11 +143,12 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     // Loaded before the miss test (a miss has material 0): the G-buffer's
     // specular share comes from the same two texels.
     (*st).cone.x += (*st).cone.y * hit.t;
-    let m = material_at(hit.material, hit.prim, hit.position, rd, (*st).cone.x);
+    let surface = shaded_surface_at(hit.material, hit.prim, hit.position, rd, (*st).cone.x, hit.normal);
+    let m = surface.m;
     // The hit with its shading normal bent by the material's normal
     // texture, if it has one.
     var shaded = hit;
-    shaded.normal = mapped_normal(hit.material, hit.prim, hit.position, rd, (*st).cone.x, hit.normal);
+    shaded.normal = surface.n;
     let recording = FIRST_HIT && (depth == 0u || (THROUGH_MIRRORS && path_primary_open));
     if recording {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));

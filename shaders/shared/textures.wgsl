@@ -128,7 +128,7 @@ fn sample_material(id: u32, slot: u32, k: u32, wrap_bits: u32, shift: u32, s: Su
 // base colour, emission and (metallic-roughness materials) metalness and
 // roughness textures applied.
 fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material {
-    var m = load_material(id);
+    let m = load_material(id);
     if !SCENE_TEXTURES || prim == NO_OBJECT {
         return m;
     }
@@ -140,7 +140,14 @@ fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material 
     if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE {
         return m;
     }
-    let s = surface_uv(prim, p, rd, width);
+    return textured(m, id, slots, mr_slot, surface_uv(prim, p, rd, width));
+}
+
+// `m` (material `id`) with its textures applied at s: `slots` its record's
+// first texel, `mr_slot` its metallic-roughness texture (NO_TEXTURE: none
+// read).
+fn textured(m_in: Material, id: u32, slots: vec4u, mr_slot: u32, s: SurfaceUv) -> Material {
+    var m = m_in;
     if slots.x != NO_TEXTURE {
         m.albedo *= sample_material(id, slots.x, 1u, slots.z, 0u, s).rgb;
     }
@@ -159,9 +166,7 @@ fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material 
 
 // The shading normal at point p of triangle `prim` of material `id`: `n`
 // (the interpolated normal, unflipped) bent by the material's normal
-// texture, if it has one, in the tangent frame the triangle's uvs give
-// (+x along u, +y toward the image's top, as glTF's normal textures are
-// written), Gram-Schmidt against n; n itself where the uvs are degenerate.
+// texture, if it has one (bent_normal).
 fn mapped_normal(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) -> vec3f {
     if !SCENE_TEXTURES || prim == NO_OBJECT {
         return n;
@@ -170,7 +175,15 @@ fn mapped_normal(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) 
     if more.y == NO_TEXTURE {
         return n;
     }
-    let s = surface_uv(prim, p, rd, width);
+    return bent_normal(id, more.y, bitcast<f32>(more.z), material_texel(id, 0u).z, surface_uv(prim, p, rd, width), n);
+}
+
+// `n` bent by normal texture `slot` of material `id` (x and y times
+// `scale`; `wrap_bits` the record's wrap modes) at s, in the tangent frame
+// the triangle's uvs give (+x along u, +y toward the image's top, as
+// glTF's normal textures are written), Gram-Schmidt against n; n itself
+// where the uvs are degenerate.
+fn bent_normal(id: u32, slot: u32, scale: f32, wrap_bits: u32, s: SurfaceUv, n: vec3f) -> vec3f {
     let det = s.du1.x * s.du2.y - s.du1.y * s.du2.x;
     if abs(det) < 1e-20 {
         return n;
@@ -184,10 +197,36 @@ fn mapped_normal(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) 
     let t = normalize(tu);
     // Up in the image is -v (glTF's v runs down it).
     let b = cross(n, t) * select(1.0, -1.0, dot(cross(n, t), dpdv) > 0.0);
-    let c = sample_material(id, more.y, 8u, material_texel(id, 0u).z, 12u, s).xyz * 2.0 - 1.0;
-    let scale = bitcast<f32>(more.z);
+    let c = sample_material(id, slot, 8u, wrap_bits, 12u, s).xyz * 2.0 - 1.0;
     let bent = t * (c.x * scale) + b * (c.y * scale) + n * c.z;
     return select(n, normalize(bent), dot(bent, bent) > 0.0);
+}
+
+// A hit's textured material and bent shading normal.
+struct ShadedSurface {
+    m: Material,
+    n: vec3f,
+}
+
+// material_at and mapped_normal at once, the material's record and the
+// triangle's vertices and uvs read once (the path tracer's hits).
+fn shaded_surface_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) -> ShadedSurface {
+    let m = load_material(id);
+    if !SCENE_TEXTURES || prim == NO_OBJECT {
+        return ShadedSurface(m, n);
+    }
+    let slots = material_texel(id, 0u);
+    let more = material_texel(id, 5u);
+    let mr_slot = select(NO_TEXTURE, more.x, is_metal_rough(m));
+    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE && more.y == NO_TEXTURE {
+        return ShadedSurface(m, n);
+    }
+    let s = surface_uv(prim, p, rd, width);
+    var out = ShadedSurface(textured(m, id, slots, mr_slot, s), n);
+    if more.y != NO_TEXTURE {
+        out.n = bent_normal(id, more.y, bitcast<f32>(more.z), slots.z, s, n);
+    }
+    return out;
 }
 
 // The material a G-buffer pixel shows: ids as gbuffer.wgsl writes them

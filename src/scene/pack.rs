@@ -12,7 +12,7 @@ use super::gpu_types::{
 };
 use super::texture_classes;
 use super::world::{
-    Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, SpotCone, Transform,
+    Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, SpotCone, TextureSlot, Transform,
 };
 
 impl Scene {
@@ -269,32 +269,29 @@ impl Scene {
         let layout = texture_classes::layout(&self.textures);
         let mut out = vec![MaterialTexturesGpu::default(); self.materials.len()];
         for (gpu, m) in out.iter_mut().zip(&self.material_textures) {
-            let row = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
-            if let Some(s) = m.base_color {
-                gpu.base = layout.slot(s.texture);
-                gpu.wrap |= s.wrap[0] | (s.wrap[1] << 2);
-                (gpu.base_u, gpu.base_v) = (row(s.transform[0]), row(s.transform[1]));
+            // (slot, uv transform rows) of `s`, its wrap modes put at `shift`.
+            let place = |s: &TextureSlot, shift: u32, wrap: &mut u32| {
+                *wrap |= (s.wrap[0] << shift) | (s.wrap[1] << (shift + 2));
+                let row = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
+                (layout.slot(s.texture), row(s.transform[0]), row(s.transform[1]))
+            };
+            if let Some(s) = &m.base_color {
+                (gpu.base, gpu.base_u, gpu.base_v) = place(s, 0, &mut gpu.wrap);
             }
             if let Some((cutoff, factor)) = m.alpha_mask {
                 // factor x texture >= cutoff, as texture >= cutoff / factor
                 // (above 1: never there).
                 gpu.alpha_threshold = if factor > 0.0 { cutoff / factor } else { 2.0 };
             }
-            if let Some(s) = m.emissive {
-                gpu.emissive = layout.slot(s.texture);
-                gpu.wrap |= (s.wrap[0] << 4) | (s.wrap[1] << 6);
-                (gpu.emissive_u, gpu.emissive_v) = (row(s.transform[0]), row(s.transform[1]));
+            if let Some(s) = &m.emissive {
+                (gpu.emissive, gpu.emissive_u, gpu.emissive_v) = place(s, 4, &mut gpu.wrap);
             }
-            if let Some(s) = m.metallic_roughness {
-                gpu.metallic_roughness = layout.slot(s.texture);
-                gpu.wrap |= (s.wrap[0] << 8) | (s.wrap[1] << 10);
-                (gpu.metallic_roughness_u, gpu.metallic_roughness_v) = (row(s.transform[0]), row(s.transform[1]));
+            if let Some(s) = &m.metallic_roughness {
+                (gpu.metallic_roughness, gpu.metallic_roughness_u, gpu.metallic_roughness_v) = place(s, 8, &mut gpu.wrap);
             }
-            if let Some((s, scale)) = m.normal {
-                gpu.normal = layout.slot(s.texture);
-                gpu.normal_scale = scale;
-                gpu.wrap |= (s.wrap[0] << 12) | (s.wrap[1] << 14);
-                (gpu.normal_u, gpu.normal_v) = (row(s.transform[0]), row(s.transform[1]));
+            if let Some((s, scale)) = &m.normal {
+                (gpu.normal, gpu.normal_u, gpu.normal_v) = place(s, 12, &mut gpu.wrap);
+                gpu.normal_scale = *scale;
             }
         }
         out
