@@ -324,10 +324,6 @@ fn check_workgroup_size(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shad
 fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
     check_workgroup_size(device, sp, shader)?;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(&sp.shader),
-        source: wgpu::ShaderSource::Wgsl(shader.source.text.as_str().into()),
-    });
     let mut by_group: BTreeMap<u32, Vec<&ResolvedBinding>> = BTreeMap::new();
     for b in &sp.bindings {
         by_group.entry(b.group).or_default().push(b);
@@ -347,24 +343,40 @@ fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants:
         immediate_size: 0,
     });
     let constants: Vec<(&str, f64)> = constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-    let make = |entry: &str, constants: &[(&str, f64)]| {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+    // Each pipeline gets its own module, specialised for its entry and
+    // constants (shader::specialise: the driver never sees the dead code).
+    let make = |entry: &str, constants: &[(&str, f64)]| -> Result<wgpu::ComputePipeline, UserError> {
+        let module = crate::shader::specialise::specialised_module(shader, entry, constants)
+            .map_err(|e| UserError::new(format!("pass `{}` ({}), entry `{entry}`: {e}", sp.name, shader_location(sp, shader))))?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&sp.shader),
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+        });
+        Ok(device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(&sp.name),
             layout: Some(&pipeline_layout),
             module: &module,
             entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
             cache: None,
-        })
+        }))
     };
-    let pipeline = make(&sp.entry, &constants);
-    let listed = sp.listed.as_deref().map(|e| make(e, &constants));
-    let still = shader.info.overrides.iter().any(|o| o.name == CAMERA_STILL).then(|| {
-        let mut c: Vec<(&str, f64)> = constants.iter().copied().filter(|(k, _)| *k != CAMERA_STILL).collect();
-        c.push((CAMERA_STILL, 1.0));
-        (make(&sp.entry, &c), sp.listed.as_deref().map(|e| make(e, &c)))
-    });
-    if let Some(e) = pollster::block_on(scope.pop()) {
+    let built = (|| {
+        let pipeline = make(&sp.entry, &constants)?;
+        let listed = sp.listed.as_deref().map(|e| make(e, &constants)).transpose()?;
+        let still = match shader.info.overrides.iter().any(|o| o.name == CAMERA_STILL) {
+            false => None,
+            true => {
+                let mut c: Vec<(&str, f64)> = constants.iter().copied().filter(|(k, _)| *k != CAMERA_STILL).collect();
+                c.push((CAMERA_STILL, 1.0));
+                Some((make(&sp.entry, &c)?, sp.listed.as_deref().map(|e| make(e, &c)).transpose()?))
+            }
+        };
+        Ok::<_, UserError>((pipeline, listed, still))
+    })();
+    let driver_error = pollster::block_on(scope.pop());
+    let (pipeline, listed, still) = built?;
+    if let Some(e) = driver_error {
         return Err(UserError::new(format!("pass `{}` ({}): the GPU driver rejected the pipeline: {e}", sp.name, shader_location(sp, shader))));
     }
     Ok(CachedPipeline { pipeline, listed, still, layouts })

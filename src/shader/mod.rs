@@ -5,6 +5,7 @@ pub mod budget;
 pub mod hints;
 pub mod reflect;
 pub mod source;
+pub mod specialise;
 pub mod validation_words;
 
 #[cfg(test)]

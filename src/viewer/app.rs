@@ -112,7 +112,7 @@ pub struct Viewer {
 }
 
 impl Viewer {
-    pub fn new(event_loop: &ActiveEventLoop, options: ViewOptions, scene: crate::scene::Scene) -> Result<Viewer, UserError> {
+    pub fn new(event_loop: &ActiveEventLoop, options: ViewOptions, scene: crate::scene::Scene, wake: crate::viewer::Waker) -> Result<Viewer, UserError> {
         let window = Arc::new(event_loop.create_window(window::attributes(&options)).map_err(|e| UserError::new(format!("cannot open a window: {e}")))?);
         let descriptor = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
         let instance = wgpu::Instance::new(descriptor);
@@ -171,7 +171,8 @@ impl Viewer {
         let egui_renderer = egui_wgpu::Renderer::new(&ui.device, format, egui_wgpu::RendererOptions::default());
         let present = Present::new(&ui.device, format)?;
         // A scripted run (--frames) renders and exits: nothing to watch.
-        let reloader = match Reloader::start(&session) {
+        let mirror = Mirror::new(&gpu, wake.clone())?;
+        let reloader = match Reloader::start(&session, wake) {
             _ if options.frames.is_some() => None,
             Ok((r, dirs)) => {
                 let shown: Vec<String> = dirs.iter().map(|d| d.display().to_string()).collect();
@@ -218,7 +219,7 @@ impl Viewer {
             screenshot_requested: false,
             screenshots: Vec::new(),
             announce: None,
-            mirror: Mirror::default(),
+            mirror,
             flight_generation: 0,
             shown_generation: 0,
             last_ui: Instant::now(),
@@ -517,10 +518,13 @@ impl Viewer {
     }
 
     /// When the window should next redraw: now (None) while scene frames
-    /// keep coming; while one is running, at a steady rate that keeps the
-    /// panel live without taking the cores the frame needs.
+    /// keep coming; while one is running or a saved file's rebuild
+    /// compiles, at a steady rate that keeps the panel live without taking
+    /// the cores the frame or the compiler need (the reload thread wakes
+    /// the loop the moment its rebuild is done).
     pub fn next_redraw(&self) -> Option<Instant> {
-        (self.mirror.busy() && self.options.frames.is_none()).then(|| self.last_ui + std::time::Duration::from_millis(UI_WHILE_RENDERING_MS))
+        let waiting = self.mirror.busy() || self.reloader.as_ref().is_some_and(|r| r.running().is_some());
+        (waiting && self.options.frames.is_none()).then(|| self.last_ui + std::time::Duration::from_millis(UI_WHILE_RENDERING_MS))
     }
 
     /// What the window and the scene presented, for the line printed at

@@ -28,8 +28,11 @@ struct InFlight {
 }
 
 /// The scene image on the window's device, and the copy in flight.
-#[derive(Default)]
 pub struct Mirror {
+    /// Tells the waiter thread a frame was submitted: it waits for the
+    /// scene's device there and wakes the window the moment the copy is
+    /// mapped (the window's thread never polls for it).
+    submitted_to: std::sync::mpsc::Sender<()>,
     shown: Option<(wgpu::Texture, TexFormat)>,
     /// A copy recorded into a frame not yet submitted.
     recorded: Option<(wgpu::Buffer, TexFormat, (u32, u32), u32)>,
@@ -40,6 +43,24 @@ pub struct Mirror {
 }
 
 impl Mirror {
+    /// A mirror of `scene`'s images; `wake` is called when one arrives.
+    pub fn new(scene: &Gpu, wake: crate::viewer::Waker) -> Result<Mirror, UserError> {
+        let (submitted_to, submissions) = channel::<()>();
+        let device = scene.device.clone();
+        std::thread::Builder::new()
+            .name("glint frame waiter".into())
+            .spawn(move || {
+                // Ends when the mirror is dropped. A timeout is left to the
+                // window, which shows a frame that never finishes.
+                while submissions.recv().is_ok() {
+                    let _ = device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(crate::gpu::gpu_timeout()) });
+                    wake();
+                }
+            })
+            .map_err(|e| UserError::new(format!("cannot start the frame waiter thread: {e}")))?;
+        Ok(Mirror { submitted_to, shown: None, recorded: None, spare: None, in_flight: None })
+    }
+
     /// Whether a copy is still on its way (the scene's frame is running).
     pub fn busy(&self) -> bool {
         self.in_flight.is_some()
@@ -83,6 +104,9 @@ impl Mirror {
             let _ = tx.send(r);
         });
         self.in_flight = Some(InFlight { buffer, mapped, format, size, row });
+        // The waiter is gone only if its thread died; the window's own
+        // polls still take the image in then.
+        let _ = self.submitted_to.send(());
     }
 
     /// Takes in the copy if it has arrived (with `wait`, waits for it):

@@ -27,6 +27,10 @@ use crate::error::UserError;
 use crate::scene::Scene;
 use app::Viewer;
 
+/// Wakes the window's event loop from another thread (a rebuild or a
+/// scene frame finished), so the window need not poll for it.
+pub(crate) type Waker = std::sync::Arc<dyn Fn() + Send + Sync>;
+
 /// What `glint view` opens and how (the `glint view` arguments).
 #[derive(Debug, Clone)]
 pub struct ViewOptions {
@@ -54,6 +58,7 @@ pub struct ViewOptions {
 
 struct App {
     options: ViewOptions,
+    wake: Waker,
     scene: Option<Scene>,
     viewer: Option<Viewer>,
     result: Result<(), UserError>,
@@ -62,7 +67,7 @@ struct App {
 impl ApplicationHandler for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         let Some(scene) = self.scene.take() else { return };
-        match Viewer::new(event_loop, self.options.clone(), scene) {
+        match Viewer::new(event_loop, self.options.clone(), scene, self.wake.clone()) {
             Ok(v) => {
                 v.window.request_redraw();
                 self.viewer = Some(v);
@@ -93,6 +98,13 @@ impl ApplicationHandler for App {
                     event_loop.exit();
                 }
             }
+        }
+    }
+
+    /// A waker's call: something finished off the window's thread.
+    fn user_event(&mut self, _event_loop: &ActiveEventLoop, _event: ()) {
+        if let Some(v) = &self.viewer {
+            v.window.request_redraw();
         }
     }
 
@@ -127,7 +139,12 @@ pub fn run(options: ViewOptions) -> Result<(), UserError> {
         ))
     })?;
     event_loop.set_control_flow(ControlFlow::Poll);
-    let mut app = App { options, scene: Some(scene), viewer: None, result: Ok(()) };
+    let proxy = event_loop.create_proxy();
+    let wake: Waker = std::sync::Arc::new(move || {
+        // The loop is gone at exit: nothing to wake.
+        let _ = proxy.send_event(());
+    });
+    let mut app = App { options, wake, scene: Some(scene), viewer: None, result: Ok(()) };
     event_loop.run_app(&mut app).map_err(|e| UserError::new(format!("the window's event loop failed: {e}")))?;
     if let Some(v) = &app.viewer {
         println!("{}", v.summary());

@@ -50,7 +50,8 @@ fn describe(kind: &RebuildKind) -> String {
 
 impl Reloader {
     /// Starts watching the session's files; returns the folders watched.
-    pub fn start(session: &Session) -> Result<(Reloader, Vec<std::path::PathBuf>), UserError> {
+    /// `wake` is called whenever a result is waiting.
+    pub fn start(session: &Session, wake: crate::viewer::Waker) -> Result<(Reloader, Vec<std::path::PathBuf>), UserError> {
         let sources = session.sources();
         let dirs = watch_dirs(&sources);
         let mut watcher = Watcher::new(&dirs)?;
@@ -72,6 +73,7 @@ impl Reloader {
                     if tx.send(waited).is_err() {
                         return;
                     }
+                    wake();
                 }
                 let changed = batch.changed;
                 if changed.is_empty() {
@@ -109,6 +111,7 @@ impl Reloader {
                     if tx.send(Finished { what, kind: kind_word, started, frames, result }).is_err() {
                         return;
                     }
+                    wake();
                 }
             })
             .map_err(|e| UserError::new(format!("cannot start the reload thread: {e}")))?;
