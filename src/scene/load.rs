@@ -89,8 +89,9 @@ pub(super) struct Builder<'a, 'l> {
     /// Per material id, its textures (filled up to the last textured one).
     pub(super) material_textures: Vec<MaterialTextures>,
     pub(super) textures: Vec<TextureImage>,
-    /// Image files read for OBJ materials: (path, scene texture).
-    image_files: Vec<(PathBuf, usize)>,
+    /// Image files read for OBJ materials: (path, read as data (linear),
+    /// scene texture).
+    image_files: Vec<(PathBuf, bool, usize)>,
     /// The glTF files' perspective cameras, placed.
     pub(super) gltf_cameras: Vec<Camera>,
     default_material: Option<u32>,
@@ -326,7 +327,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     files.push(g.path.clone());
                     files.extend(g.file.files.iter().cloned());
                 }
-                files.extend(self.image_files.iter().map(|(p, _)| p.clone()));
+                files.extend(self.image_files.iter().map(|(p, _, _)| p.clone()));
                 files.dedup();
                 files
             },
@@ -465,6 +466,17 @@ impl<'a, 'l> Builder<'a, 'l> {
                 }
                 self.material_textures[id].base_color = Some(TextureSlot { texture, wrap: [0, 0], transform: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] });
             }
+            for (k, map) in file.normal_maps.iter().enumerate() {
+                let Some((name, image, scale)) = map else { continue };
+                let texture = self.image_file_as(image, true).map_err(|e| {
+                    ctx.err("path", format_args!("OBJ file {}: material \"{name}\": normal map {}: {e}", resolved.display(), image.display()))
+                })?;
+                let id = base as usize + k;
+                if self.material_textures.len() <= id {
+                    self.material_textures.resize(id + 1, MaterialTextures::default());
+                }
+                self.material_textures[id].normal = Some((TextureSlot { texture, wrap: [0, 0], transform: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] }, *scale));
+            }
         }
         let mut triangles = Vec::with_capacity(file.triangles.len());
         for t in &file.triangles {
@@ -486,14 +498,23 @@ impl<'a, 'l> Builder<'a, 'l> {
         Ok(mesh)
     }
 
-    /// The scene texture of an image file, read once per file.
+    /// The scene texture of an image file used as colour (sRGB), read once
+    /// per file.
     fn image_file(&mut self, path: &Path) -> Result<usize, String> {
-        if let Some(&(_, t)) = self.image_files.iter().find(|(p, _)| p == path) {
+        self.image_file_as(path, false)
+    }
+
+    /// The scene texture of an image file used as colour or, `linear`, as
+    /// data (normals): read once per file and use.
+    fn image_file_as(&mut self, path: &Path, linear: bool) -> Result<usize, String> {
+        if let Some(&(_, _, t)) = self.image_files.iter().find(|(p, l, _)| p == path && *l == linear) {
             return Ok(t);
         }
         let bytes = std::fs::read(path).map_err(|e| format!("cannot read it: {e}"))?;
-        self.textures.push(TextureImage::decode(&bytes)?);
-        self.image_files.push((path.to_path_buf(), self.textures.len() - 1));
+        let mut image = TextureImage::decode(&bytes)?;
+        image.linear = linear;
+        self.textures.push(image);
+        self.image_files.push((path.to_path_buf(), linear, self.textures.len() - 1));
         Ok(self.textures.len() - 1)
     }
 

@@ -25,6 +25,10 @@ pub(crate) struct ObjFile {
     pub materials: Vec<MaterialGpu>,
     /// Per material: its name and its `map_Kd` file, beside the MTL.
     pub diffuse_maps: Vec<Option<(String, std::path::PathBuf)>>,
+    /// Per material: its name, its normal map (`map_Bump`, `bump` or
+    /// `norm`: tangent-space normals, as Blender and most exporters write
+    /// them) and the map's `-bm` scale (1 without one).
+    pub normal_maps: Vec<Option<(String, std::path::PathBuf, f32)>>,
 }
 
 /// Reads `path`. A missing MTL library is not an error (the faces then
@@ -55,6 +59,15 @@ pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String
     }
     let dir = path.parent().unwrap_or(Path::new(""));
     let diffuse_maps = materials.iter().map(|m| m.diffuse_texture.as_deref().map(|t| (m.name.clone(), dir.join(map_file(t))))).collect();
+    let normal_maps = materials
+        .iter()
+        .map(|m| {
+            let value = m.normal_texture.as_deref().or_else(|| m.unknown_param.get("norm").map(String::as_str))?;
+            Some(bump_scale(value).map(|scale| (m.name.clone(), dir.join(map_file(value)), scale)))
+        })
+        .map(Option::transpose)
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(|e| format!("OBJ file {}: its MTL library: {e}", path.display()))?;
     let materials = materials
         .iter()
         .map(map_material)
@@ -122,7 +135,21 @@ pub(crate) fn read(path: &Path, check_materials: bool) -> Result<ObjFile, String
         triangles,
         materials,
         diffuse_maps,
+        normal_maps,
     })
+}
+
+/// The `-bm` option of a normal map line (`map_Bump -bm 0.5 n.png`), 1
+/// without one; other options are skipped.
+fn bump_scale(value: &str) -> Result<f32, String> {
+    let words: Vec<&str> = value.split_whitespace().collect();
+    match words.iter().position(|w| *w == "-bm") {
+        None => Ok(1.0),
+        Some(i) => match words.get(i + 1).map(|w| w.parse::<f32>()) {
+            Some(Ok(s)) if s.is_finite() => Ok(s),
+            _ => Err(format!("`{}`: -bm takes a finite number (the normal map's scale)", value.trim())),
+        },
+    }
 }
 
 /// The file a `map_Kd` line names: its last word after options (`-s 2 2 1

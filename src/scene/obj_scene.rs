@@ -130,4 +130,34 @@ mod tests {
         assert!(e.contains("material \"wood\"") && e.contains("wood.png"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
     }
+
+    #[test]
+    fn an_mtl_normal_map_is_a_linear_normal_texture_with_its_scale() {
+        let dir = std::env::temp_dir().join(format!("glint-obj-normal-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let img = image::RgbaImage::from_raw(1, 1, vec![200, 128, 230, 255]).expect("image");
+        img.save(dir.join("n.png")).expect("png");
+        // map_Bump with -bm, `norm`, and the same file as a colour map:
+        // the colour use and the data use are two textures, each read once.
+        let mtl = "newmtl a\nKd 1 1 1\nmap_Bump -bm 0.5 n.png\nnewmtl b\nKd 1 1 1\nnorm n.png\nnewmtl c\nKd 1 1 1\nmap_Kd n.png\n";
+        std::fs::write(dir.join("m.mtl"), mtl).expect("write");
+        let faces = "usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 2/2 3/3\nusemtl c\nf 1/1 2/2 3/3\n";
+        std::fs::write(dir.join("m.obj"), format!("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n{faces}")).expect("write");
+        let scene = open_obj(&dir.join("m.obj")).unwrap_or_else(|e| panic!("{e}"));
+        let textures = scene.textures();
+        assert_eq!(textures.len(), 2, "one linear copy for the normal maps, one sRGB for the colour map");
+        let slots = scene.material_textures();
+        let normals: Vec<_> = slots.iter().filter_map(|m| m.normal).collect();
+        assert_eq!(normals.len(), 2);
+        assert_eq!(normals[0].0.texture, normals[1].0.texture, "both normal maps share their texture");
+        assert!(textures[normals[0].0.texture].linear);
+        assert_eq!((normals[0].1, normals[1].1), (0.5, 1.0));
+        let colour = slots.iter().find_map(|m| m.base_color).expect("c's colour map");
+        assert!(!textures[colour.texture].linear);
+        // A -bm that is not a number is an error naming it.
+        std::fs::write(dir.join("m.mtl"), mtl.replace("-bm 0.5", "-bm strong")).expect("write");
+        let e = open_obj(&dir.join("m.obj")).map(|_| ()).expect_err("-bm strong loaded").to_string();
+        assert!(e.contains("-bm") && e.contains("m.obj"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
