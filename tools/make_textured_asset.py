@@ -104,6 +104,9 @@ def main():
             {
                 "name": "tile",
                 "pbrMetallicRoughness": {"baseColorFactor": [0.95, 0.64, 0.54, 1.0], "metallicRoughnessTexture": {"index": 2}},
+                # glint shades both sides of every surface; saying so keeps
+                # the loader's single-sided warning off the shipped scene.
+                "doubleSided": True,
             },
         ],
         "textures": [{"source": 0}, {"source": 1}, {"source": 2}],

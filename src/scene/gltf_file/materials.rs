@@ -39,21 +39,42 @@ pub(crate) fn convert(m: &gltf::Material) -> Result<MaterialGpu, String> {
     Ok(MaterialGpu::metal_rough(albedo, metallic, roughness, emission))
 }
 
-/// What the conversion leaves out for the materials of `doc`, one line each
-/// (empty when nothing is left out).
+/// What the conversion leaves out for the materials and primitives of
+/// `doc`, one line each (empty when nothing is left out).
 pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
-    let mut textured = 0;
-    let mut blend = 0;
+    use gltf::Semantic;
+    let (mut occlusion, mut blend, mut single_sided, mut second_uvs) = (0, 0, 0, 0);
     for m in doc.materials() {
-        textured += usize::from(m.occlusion_texture().is_some());
+        occlusion += usize::from(m.occlusion_texture().is_some());
         blend += usize::from(m.alpha_mode() == gltf::material::AlphaMode::Blend);
+        single_sided += usize::from(!m.double_sided());
+        let pbr = m.pbr_metallic_roughness();
+        let sets = [
+            pbr.base_color_texture().map(|t| t.tex_coord()),
+            pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
+            m.emissive_texture().map(|t| t.tex_coord()),
+            m.normal_texture().map(|t| t.tex_coord()),
+        ];
+        second_uvs += usize::from(sets.iter().flatten().any(|&set| set != 0));
+    }
+    let (mut colours, mut tangents, mut morphs) = (0, 0, 0);
+    for prim in doc.meshes().flat_map(|m| m.primitives().collect::<Vec<_>>()) {
+        colours += usize::from(prim.get(&Semantic::Colors(0)).is_some());
+        tangents += usize::from(prim.get(&Semantic::Tangents).is_some() && prim.material().normal_texture().is_some());
+        morphs += usize::from(prim.morph_targets().next().is_some());
     }
     let mut out = Vec::new();
-    if textured > 0 {
-        out.push(format!("{textured} material(s) have occlusion textures, which glint does not read (rays find the occlusion themselves)"));
-    }
-    if blend > 0 {
-        out.push(format!("{blend} material(s) use alphaMode BLEND, which glint renders as MASK at alpha 0.5"));
-    }
+    let mut say = |n: usize, what: &str| {
+        if n > 0 {
+            out.push(format!("{n} {what}"));
+        }
+    };
+    say(occlusion, "material(s) have occlusion textures, which glint does not read (rays find the occlusion themselves)");
+    say(blend, "material(s) use alphaMode BLEND, which glint renders as MASK at alpha 0.5");
+    say(single_sided, "material(s) are single-sided (doubleSided false); glint shades both sides of every surface");
+    say(second_uvs, "material(s) read a texture through TEXCOORD_1 or later, which glint reads through TEXCOORD_0");
+    say(colours, "primitive(s) have vertex colours (COLOR_0), which glint does not apply");
+    say(tangents, "normal-mapped primitive(s) carry TANGENT, which glint does not read: it takes each triangle's tangent frame from its uvs");
+    say(morphs, "primitive(s) have morph targets, which glint does not apply (the base shape is shown)");
     out
 }

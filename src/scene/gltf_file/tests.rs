@@ -251,3 +251,23 @@ fn textures_uvs_and_transforms_are_read() {
     let e = read(&write_json(&scratch("bad-image"), &v)).expect_err("a broken image was read");
     assert!(e.contains("images[0]") && e.contains("cannot decode"), "{e}");
 }
+
+#[test]
+fn what_glint_leaves_out_is_said_once_each() {
+    let bytes = buffer(&TRIANGLE, &[0, 1, 2]);
+    let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
+    // Vertex colours and a morph target read the positions' accessor; the
+    // material is single-sided (glTF's default).
+    let prim = &mut v["meshes"][0]["primitives"][0];
+    prim["attributes"]["COLOR_0"] = Value::from(0);
+    prim["targets"] = gltf::json::deserialize::from_str(r#"[{"POSITION": 0}]"#).expect("json");
+    prim["material"] = Value::from(0);
+    v["materials"] = gltf::json::deserialize::from_str(r#"[{"name": "one side"}]"#).expect("json");
+    let path = write_json(&scratch("left-out"), &v);
+    let f = read(&path).unwrap_or_else(|e| panic!("{e}"));
+    let warnings = f.warnings.join("\n");
+    for said in ["1 primitive(s) have vertex colours (COLOR_0)", "1 primitive(s) have morph targets", "1 material(s) are single-sided"] {
+        assert!(warnings.contains(said), "{said:?} not in {warnings}");
+    }
+    assert!(!warnings.contains("TEXCOORD_1") && !warnings.contains("TANGENT"), "{warnings}");
+}
