@@ -117,7 +117,13 @@ impl Mirror {
             if !scene.wait() {
                 return Err(UserError::new("the scene's frame did not finish in time (GLINT_GPU_TIMEOUT_S sets the limit)"));
             }
-            f.mapped.try_recv()
+            // The frame is done, but the waiter thread's poll may be the one
+            // delivering the mapping's callback: wait for it.
+            match f.mapped.recv_timeout(crate::gpu::gpu_timeout()) {
+                Ok(r) => Ok(r),
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Err(TryRecvError::Empty),
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => Err(TryRecvError::Disconnected),
+            }
         } else {
             let _ = scene.device.poll(wgpu::PollType::Poll);
             f.mapped.try_recv()
