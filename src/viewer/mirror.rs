@@ -32,7 +32,10 @@ pub struct Mirror {
     /// Tells the waiter thread a frame was submitted: it waits for the
     /// scene's device there and wakes the window the moment the copy is
     /// mapped (the window's thread never polls for it).
-    submitted_to: std::sync::mpsc::Sender<()>,
+    submitted_to: Option<std::sync::mpsc::Sender<()>>,
+    /// That thread, joined on drop: one still inside the driver when the
+    /// process exits crashes it (lavapipe is torn down under it).
+    waiter: Option<std::thread::JoinHandle<()>>,
     shown: Option<(wgpu::Texture, TexFormat)>,
     /// A copy recorded into a frame not yet submitted.
     recorded: Option<(wgpu::Buffer, TexFormat, (u32, u32), u32)>,
@@ -47,7 +50,7 @@ impl Mirror {
     pub fn new(scene: &Gpu, wake: crate::viewer::Waker) -> Result<Mirror, UserError> {
         let (submitted_to, submissions) = channel::<()>();
         let device = scene.device.clone();
-        std::thread::Builder::new()
+        let waiter = std::thread::Builder::new()
             .name("glint frame waiter".into())
             .spawn(move || {
                 // Ends when the mirror is dropped. A timeout is left to the
@@ -58,7 +61,7 @@ impl Mirror {
                 }
             })
             .map_err(|e| UserError::new(format!("cannot start the frame waiter thread: {e}")))?;
-        Ok(Mirror { submitted_to, shown: None, recorded: None, spare: None, in_flight: None })
+        Ok(Mirror { submitted_to: Some(submitted_to), waiter: Some(waiter), shown: None, recorded: None, spare: None, in_flight: None })
     }
 
     /// Whether a copy is still on its way (the scene's frame is running).
@@ -106,7 +109,9 @@ impl Mirror {
         self.in_flight = Some(InFlight { buffer, mapped, format, size, row });
         // The waiter is gone only if its thread died; the window's own
         // polls still take the image in then.
-        let _ = self.submitted_to.send(());
+        if let Some(to) = &self.submitted_to {
+            let _ = to.send(());
+        }
     }
 
     /// Takes in the copy if it has arrived (with `wait`, waits for it):
@@ -161,5 +166,16 @@ impl Mirror {
         f.buffer.unmap();
         self.spare = Some(f.buffer);
         Ok(true)
+    }
+}
+
+impl Drop for Mirror {
+    /// Ends the waiter thread (its channel closes) and waits for it, which
+    /// lasts at most until the frame in flight is done.
+    fn drop(&mut self) {
+        self.submitted_to = None;
+        if let Some(w) = self.waiter.take() {
+            let _ = w.join();
+        }
     }
 }
