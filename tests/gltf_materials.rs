@@ -56,31 +56,6 @@ fn quad_scene(dir: &std::path::Path, name: &str, material: &str, texels: &[[u8; 
     scene
 }
 
-/// The path tracer's image of `scene`, 32x32, 4 frames.
-fn render_scene(scene: &std::path::Path) -> glint::gpu::readback::ImageF32 {
-    let out = scene.with_extension("exr");
-    let (code, stderr) = glint(&["render", scene.to_str().expect("utf-8"), "--graph", "passes/pathtrace.ron", "--size", "32x32", "--frames", "4", "--out", out.to_str().expect("utf-8")]);
-    assert_eq!(code, 0, "{stderr}");
-    glint::image_io::load(&out).expect("read the image")
-}
-
-fn glint(args: &[&str]) -> (i32, String) {
-    let (code, _, stderr) = run_glint(args, &[]);
-    (code, stderr)
-}
-
-/// The mean of the 4x4 pixels about the centre.
-fn centre(img: &glint::gpu::readback::ImageF32) -> Vec3 {
-    let mut sum = Vec3::ZERO;
-    for y in 14..18 {
-        for x in 14..18 {
-            let p = img.get(x, y);
-            sum += Vec3::new(p[0], p[1], p[2]);
-        }
-    }
-    sum / 16.0
-}
-
 #[test]
 fn a_metallic_roughness_texture_multiplies_the_factors() {
     if gpu().is_none() {
@@ -93,9 +68,9 @@ fn a_metallic_roughness_texture_multiplies_the_factors() {
     let textured = quad_scene(&dir, "textured", r#"{"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.6, 0.3, 1], "metallicRoughnessTexture": {"index": 0}}}"#, &[[0, 128, 255, 255]], sun);
     let factors = |name: &str, metallic: f32| {
         let material = format!(r#"{{"pbrMetallicRoughness": {{"baseColorFactor": [0.9, 0.6, 0.3, 1], "metallicFactor": {metallic}, "roughnessFactor": 0.502}}}}"#);
-        render_scene(&quad_scene(&dir, name, &material, &[], sun))
+        path_traced_32(&quad_scene(&dir, name, &material, &[], sun))
     };
-    let (img, metal, dielectric) = (render_scene(&textured), factors("metal", 1.0), factors("dielectric", 0.0));
+    let (img, metal, dielectric) = (path_traced_32(&textured), factors("metal", 1.0), factors("dielectric", 0.0));
     let (same, _) = glint::metrics::flip(&metal, &img);
     let (other, _) = glint::metrics::flip(&dielectric, &img);
     eprintln!("textured against factors (1, 0.502): FLIP {:.4}; against (0, 0.502): {:.4}", same.mean, other.mean);
@@ -118,8 +93,8 @@ fn a_normal_texture_bends_the_shading_normal_its_way() {
     // own sun head-on, and the other's at 60 degrees.
     let flat = [128, 128, 255, 255];
     let (right, up) = ([218, 128, 218, 255], [128, 218, 218, 255]);
-    let plain = render_scene(&quad_scene(&dir, "plain", r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}}"#, &[], Vec3::new(-1.0, 0.0, -1.0)));
-    let (flat_flip, _) = glint::metrics::flip(&plain, &render_scene(&quad_scene(&dir, "flat", material, &[flat], Vec3::new(-1.0, 0.0, -1.0))));
+    let plain = path_traced_32(&quad_scene(&dir, "plain", r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}}"#, &[], Vec3::new(-1.0, 0.0, -1.0)));
+    let (flat_flip, _) = glint::metrics::flip(&plain, &path_traced_32(&quad_scene(&dir, "flat", material, &[flat], Vec3::new(-1.0, 0.0, -1.0))));
     eprintln!("a flat normal texture against none: FLIP {:.4}", flat_flip.mean);
     assert!(flat_flip.mean <= 0.01, "a flat normal texture changed the image: FLIP {}", flat_flip.mean);
     for (name, texel, world) in [("right", right, Vec3::X), ("up", up, Vec3::Y)] {
@@ -127,9 +102,9 @@ fn a_normal_texture_bends_the_shading_normal_its_way() {
         let n = (world * c.x.max(c.y) + Vec3::Z * c.z).normalize();
         for (sun_name, toward) in [("x", Vec3::new(1.0, 0.0, 1.0)), ("y", Vec3::new(0.0, 1.0, 1.0))] {
             let l = toward.normalize();
-            let img = render_scene(&quad_scene(&dir, &format!("{name}-{sun_name}"), material, &[texel], -l));
+            let img = path_traced_32(&quad_scene(&dir, &format!("{name}-{sun_name}"), material, &[texel], -l));
             let want = brdf::eval(&m, n, Vec3::Z, l) * n.dot(l).max(0.0);
-            let got = centre(&img);
+            let got = centre_32(&img);
             eprintln!("normal bent {name}, sun toward {sun_name}: {:.4} (want {:.4})", got.x, want.x);
             assert!((got - want).abs().max_element() <= 0.03 * want.max_element() + 1e-3, "normal bent {name}, sun toward {sun_name}: {got}, want {want}");
         }

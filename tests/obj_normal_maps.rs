@@ -32,26 +32,6 @@ fn card_scene(dir: &std::path::Path, name: &str, map: Option<&str>, texel: [u8; 
     scene
 }
 
-/// The path tracer's image of `scene`, 32x32, 4 frames.
-fn render_scene(scene: &std::path::Path) -> glint::gpu::readback::ImageF32 {
-    let out = scene.with_extension("exr");
-    let (code, _, stderr) = run_glint(&["render", scene.to_str().expect("utf-8"), "--graph", "passes/pathtrace.ron", "--size", "32x32", "--frames", "4", "--out", out.to_str().expect("utf-8")], &[]);
-    assert_eq!(code, 0, "{stderr}");
-    glint::image_io::load(&out).expect("read the image")
-}
-
-/// The mean of the 4x4 pixels about the centre.
-fn centre(img: &glint::gpu::readback::ImageF32) -> Vec3 {
-    let mut sum = Vec3::ZERO;
-    for y in 14..18 {
-        for x in 14..18 {
-            let p = img.get(x, y);
-            sum += Vec3::new(p[0], p[1], p[2]);
-        }
-    }
-    sum / 16.0
-}
-
 #[test]
 fn an_mtl_normal_map_bends_the_shading_normal_its_way() {
     if gpu().is_none() {
@@ -64,8 +44,8 @@ fn an_mtl_normal_map_bends_the_shading_normal_its_way() {
     // this sun stands head-on.)
     let flat = [128, 128, 255, 255];
     let head_on = Vec3::NEG_Z;
-    let plain = render_scene(&card_scene(&dir, "plain", None, flat, head_on));
-    let (flat_flip, _) = glint::metrics::flip(&plain, &render_scene(&card_scene(&dir, "flat", Some("map_Bump"), flat, head_on)));
+    let plain = path_traced_32(&card_scene(&dir, "plain", None, flat, head_on));
+    let (flat_flip, _) = glint::metrics::flip(&plain, &path_traced_32(&card_scene(&dir, "flat", Some("map_Bump"), flat, head_on)));
     eprintln!("a flat normal map against none: FLIP {:.4}", flat_flip.mean);
     assert!(flat_flip.mean <= 0.01, "a flat normal map changed the image: FLIP {}", flat_flip.mean);
     // A texel bent toward +x in the image bends the normal toward world +x
@@ -78,9 +58,9 @@ fn an_mtl_normal_map_bends_the_shading_normal_its_way() {
         let n = (world * c.x.max(c.y) * scale + Vec3::Z * c.z).normalize();
         // The sun stands 45 degrees off the card toward the bend.
         let toward_sun = (world + Vec3::Z).normalize();
-        let img = render_scene(&card_scene(&dir, name, Some(map), texel, -toward_sun));
+        let img = path_traced_32(&card_scene(&dir, name, Some(map), texel, -toward_sun));
         let want = n.dot(toward_sun).max(0.0) / std::f32::consts::PI;
-        let got = centre(&img);
+        let got = centre_32(&img);
         eprintln!("normal map {name} ({map}): {:.4} (want {want:.4}; unbent {:.4})", got.x, Vec3::Z.dot(toward_sun) / std::f32::consts::PI);
         assert!((got - Vec3::splat(want)).abs().max_element() <= 0.03 * want + 1e-3, "normal map {name}: {got}, want {want}");
     }

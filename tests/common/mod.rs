@@ -192,3 +192,24 @@ pub fn run_glint(args: &[&str], env: &[(&str, &str)]) -> (i32, String, String) {
     assert!(!stderr.contains("panicked"), "glint panicked: {stderr}");
     (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
 }
+
+/// `glint render SCENE` through the binary with the path tracer, 32x32, 4
+/// frames, read back (the material tests' quads and cards).
+pub fn path_traced_32(scene: &Path) -> ImageF32 {
+    let out = scene.with_extension("exr");
+    let (code, _, stderr) = run_glint(&["render", scene.to_str().expect("utf-8"), "--graph", "passes/pathtrace.ron", "--size", "32x32", "--frames", "4", "--out", out.to_str().expect("utf-8")], &[]);
+    assert_eq!(code, 0, "{stderr}");
+    glint::image_io::load(&out).expect("read the image")
+}
+
+/// The mean of the 4x4 pixels about the centre of a 32x32 image.
+pub fn centre_32(img: &ImageF32) -> glam::Vec3 {
+    let mut sum = glam::Vec3::ZERO;
+    for y in 14..18 {
+        for x in 14..18 {
+            let p = img.get(x, y);
+            sum += glam::Vec3::new(p[0], p[1], p[2]);
+        }
+    }
+    sum / 16.0
+}
