@@ -116,6 +116,8 @@ fn check_outputs(outs: &[PathBuf]) -> Result<(), UserError> {
 pub(super) struct Prepared {
     pub session: Session,
     pub frames: FrameLoop,
+    /// Seconds reading the scene's files (images decoded).
+    pub read_s: f64,
 }
 
 pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
@@ -123,7 +125,9 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
         return Err(UserError::new("--frames 0 renders nothing; give at least 1"));
     }
     check_outputs(&args.out)?;
+    let read = Instant::now();
     let mut scene = scene::load(&args.scene)?;
+    let read_s = read.elapsed().as_secs_f64();
     if let Some(n) = args.camera {
         scene.use_camera(n)?;
     }
@@ -158,7 +162,7 @@ pub(super) fn prepare(args: &RenderArgs) -> Result<Prepared, UserError> {
     if let Some(volume) = &args.volume {
         super::bake_cmd::load_into(&mut session, &args.scene, volume)?;
     }
-    Ok(Prepared { session, frames })
+    Ok(Prepared { session, frames, read_s })
 }
 
 /// Renders `frames` frames from the loop's start and writes the outputs.
@@ -197,7 +201,7 @@ fn upscaled(session: &Session, asked: (u32, u32)) -> bool {
 
 /// Renders; `--watch` then goes on in `watch_cmd`, with what this returns.
 pub(super) fn run(args: &RenderArgs) -> Result<(Session, FrameLoop), UserError> {
-    let Prepared { mut session, mut frames, .. } = prepare(args)?;
+    let Prepared { mut session, mut frames, read_s } = prepare(args)?;
     eprintln!(
         "glint: {} on {}, graph `{}` ({} passes, {} culled), {}x{}, {} frame(s)",
         args.scene.display(),
@@ -212,6 +216,7 @@ pub(super) fn run(args: &RenderArgs) -> Result<(Session, FrameLoop), UserError> 
     let start = Instant::now();
     render_frames(args, &mut session, &mut frames, false)?;
     print_summary(args, &session, &frames, start.elapsed().as_secs_f64());
+    print_load(&session, read_s);
     Ok((session, frames))
 }
 
@@ -255,6 +260,19 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     if let Some(t) = crate::scene::texture_classes::describe(session.scene.scene.textures()) {
         out!("  scene textures: {t}");
     }
+}
+
+/// Where loading the scene went: its files, its BVH, its upload.
+fn print_load(session: &Session, read_s: f64) {
+    let l = session.scene.load;
+    let s = |ms: f64| ms / 1e3;
+    out!(
+        "  scene load: {:.2} s (files and images {read_s:.2} s, arrays and BVH {:.2} s, buffers {:.2} s, textures with mips {:.2} s)",
+        read_s + s(l.pack_and_bvh_ms + l.buffers_ms + l.textures_ms),
+        s(l.pack_and_bvh_ms),
+        s(l.buffers_ms),
+        s(l.textures_ms)
+    );
 }
 
 /// An empty scene is valid, but its image says nothing: say why it is

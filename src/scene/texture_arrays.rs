@@ -41,12 +41,9 @@ impl TextureArrays {
                 usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             });
-            for (i, t) in textures.iter().enumerate() {
-                let (class, layer) = layout.places[i];
-                if class != c {
-                    continue;
-                }
-                for (level, texels) in texture_classes::mip_chain(t, side).iter().enumerate() {
+            let members: Vec<(&TextureImage, u32)> = textures.iter().zip(&layout.places).filter(|(_, p)| p.0 == c).map(|(t, p)| (t, p.1)).collect();
+            for_each_mip_chain(&members, side, |layer, chain| {
+                for (level, texels) in chain.iter().enumerate() {
                     let s = side >> level;
                     bytes += texels.len() as u64;
                     queue.write_texture(
@@ -61,7 +58,7 @@ impl TextureArrays {
                         wgpu::Extent3d { width: s, height: s, depth_or_array_layers: 1 },
                     );
                 }
-            }
+            });
             views.push(texture.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
@@ -77,5 +74,23 @@ impl TextureArrays {
             ..Default::default()
         });
         Ok(TextureArrays { views, sampler, bytes })
+    }
+}
+
+/// Hands `upload` the mip chain of each of `members` (image, layer) at
+/// class side `side`, with its layer, in order. The chains are worked out
+/// a batch at a time on every core (each is independent of the others;
+/// one core took 2.3 s for a Sponza-class scene's 69 images), and each
+/// batch is uploaded before the next is made, so only a batch is held.
+fn for_each_mip_chain(members: &[(&TextureImage, u32)], side: u32, mut upload: impl FnMut(u32, &[Vec<u8>])) {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    for batch in members.chunks(cores) {
+        let chains: Vec<(u32, Vec<Vec<u8>>)> = std::thread::scope(|s| {
+            let handles: Vec<_> = batch.iter().map(|&(t, layer)| s.spawn(move || (layer, texture_classes::mip_chain(t, side)))).collect();
+            handles.into_iter().map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
+        });
+        for (layer, chain) in &chains {
+            upload(*layer, chain);
+        }
     }
 }

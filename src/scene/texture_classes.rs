@@ -85,16 +85,37 @@ pub fn mip_count(side: u32) -> u32 {
 /// (to within a step of the sRGB curve: at most 1.2/255 near 1, less
 /// below).
 pub fn mip_chain(image: &TextureImage, side: u32) -> Vec<Vec<u8>> {
-    let lut = if image.linear { std::array::from_fn(|i| i as f32 / 255.0) } else { srgb_to_linear_table() };
+    let s = side as usize;
+    let decode = decoder(image.linear);
+    if image.width as usize == s && image.height as usize == s && image.rgba.len() >= 4 * s * s {
+        // Already the class's size: level 0 is the image as it is.
+        let level0 = &image.rgba[..4 * s * s];
+        let mut out = vec![encode_bytes(level0, image.linear)];
+        if s > 1 {
+            // Level 1 straight from the bytes (level 0 is never held as f32).
+            let m = s / 2;
+            let texel = |x: usize, y: usize| decode(&level0[4 * (y * s + x)..4 * (y * s + x) + 4]);
+            let level1: Vec<Vec4> = (0..m * m).map(|i| (i % m, i / m)).map(|(x, y)| 0.25 * (texel(2 * x, 2 * y) + texel(2 * x + 1, 2 * y) + texel(2 * x, 2 * y + 1) + texel(2 * x + 1, 2 * y + 1))).collect();
+            out.push(encode(&level1));
+            out.extend(mips_below(level1, m));
+        }
+        return out;
+    }
+    chain_by_resampling(image, side)
+}
+
+/// `mip_chain` for any image size: level 0 resampled in linear light.
+fn chain_by_resampling(image: &TextureImage, side: u32) -> Vec<Vec<u8>> {
     let (w, h) = (image.width as usize, image.height as usize);
     let s = side as usize;
+    let decode = decoder(image.linear);
     // Rows first, then columns; each source row decoded to linear light
     // only as it is resampled (a 4096^2 image whole in f32 would be 256 MiB).
     let mut rows = Vec::with_capacity(s * h);
     let mut row = Vec::with_capacity(w);
     for texels in image.rgba.chunks_exact(4 * w.max(1)).take(h) {
         row.clear();
-        row.extend(texels.chunks_exact(4).map(|p| Vec4::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], f32::from(p[3]) / 255.0)));
+        row.extend(texels.chunks_exact(4).map(&decode));
         rows.extend(resample(&row, s));
     }
     // (The rows there are: a short buffer cannot index past its end.)
@@ -110,7 +131,14 @@ pub fn mip_chain(image: &TextureImage, side: u32) -> Vec<Vec<u8>> {
         }
     }
     let mut out = vec![encode(&level)];
-    let mut n = s;
+    out.extend(mips_below(level, s));
+    out
+}
+
+/// The encoded levels below `level` (side `n`, linear light), each the 2x2
+/// box average of the one above, down to 1x1.
+fn mips_below(mut level: Vec<Vec4>, mut n: usize) -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
     while n > 1 {
         let m = n / 2;
         let mut next = vec![Vec4::ZERO; m * m];
@@ -161,6 +189,13 @@ fn resample(src: &[Vec4], len: usize) -> Vec<Vec4> {
         .collect()
 }
 
+/// A texel's bytes to linear light (an sRGB image) or to its values (a
+/// data image); alpha is always data.
+fn decoder(linear: bool) -> impl Fn(&[u8]) -> Vec4 {
+    let lut = if linear { std::array::from_fn(|i| i as f32 / 255.0) } else { srgb_to_linear_table() };
+    move |p: &[u8]| Vec4::new(lut[p[0] as usize], lut[p[1] as usize], lut[p[2] as usize], f32::from(p[3]) / 255.0)
+}
+
 fn srgb_to_linear_table() -> [f32; 256] {
     let mut t = [0.0; 256];
     for (i, v) in t.iter_mut().enumerate() {
@@ -176,8 +211,81 @@ fn linear_to_srgb(l: f32) -> u8 {
     (c * 255.0 + 0.5) as u8
 }
 
+/// Cells of the encoder's table over linear 0..1.
+const ENCODE_CELLS: usize = 4096;
+
+/// `linear_to_srgb` by table, byte for byte the same (a `powf` a channel
+/// was most of a large scene's load time): `start[c]` is the byte at the
+/// start of cell c, `rise[k]` the least linear value whose byte is above
+/// k; a value steps up from its cell's byte past the rises it has reached
+/// (at most two: the curve's steepest slope is 0.8 bytes a cell).
+struct SrgbEncoder {
+    start: Vec<u8>,
+    rise: [f32; 255],
+}
+
+impl SrgbEncoder {
+    fn new() -> SrgbEncoder {
+        let mut rise = [0.0f32; 255];
+        for (k, r) in rise.iter_mut().enumerate() {
+            // Bisection for the least l with linear_to_srgb(l) > k, down to
+            // adjacent floats.
+            let (mut lo, mut hi) = (0.0f32, 1.0f32);
+            loop {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                if linear_to_srgb(mid) as usize > k {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            // The bisection ends on adjacent floats: hi is the first above.
+            *r = hi;
+        }
+        let start = (0..=ENCODE_CELLS).map(|c| linear_to_srgb(c as f32 / ENCODE_CELLS as f32)).collect();
+        SrgbEncoder { start, rise }
+    }
+
+    fn encode(&self, l: f32) -> u8 {
+        let l = if l > 0.0 { l.min(1.0) } else { 0.0 };
+        let mut b = self.start[(l * ENCODE_CELLS as f32) as usize];
+        while b < 255 && l >= self.rise[b as usize] {
+            b += 1;
+        }
+        b
+    }
+}
+
+fn encoder() -> &'static SrgbEncoder {
+    static ENCODER: std::sync::OnceLock<SrgbEncoder> = std::sync::OnceLock::new();
+    ENCODER.get_or_init(SrgbEncoder::new)
+}
+
 fn encode(level: &[Vec4]) -> Vec<u8> {
-    level.iter().flat_map(|v| [linear_to_srgb(v.x), linear_to_srgb(v.y), linear_to_srgb(v.z), (v.w.clamp(0.0, 1.0) * 255.0 + 0.5) as u8]).collect()
+    let e = encoder();
+    let mut out = Vec::with_capacity(4 * level.len());
+    for v in level {
+        out.extend_from_slice(&[e.encode(v.x), e.encode(v.y), e.encode(v.z), (v.w.clamp(0.0, 1.0) * 255.0 + 0.5) as u8]);
+    }
+    out
+}
+
+/// Level 0 of an image already its class's size: sRGB bytes stay as they
+/// are; a linear image's values become sRGB bytes.
+fn encode_bytes(rgba: &[u8], linear: bool) -> Vec<u8> {
+    if !linear {
+        return rgba.to_vec();
+    }
+    let e = encoder();
+    let byte: [u8; 256] = std::array::from_fn(|b| e.encode(b as f32 / 255.0));
+    let mut out = Vec::with_capacity(rgba.len());
+    for p in rgba.chunks_exact(4) {
+        out.extend_from_slice(&[byte[p[0] as usize], byte[p[1] as usize], byte[p[2] as usize], p[3]]);
+    }
+    out
 }
 
 #[cfg(test)]
@@ -226,5 +334,41 @@ mod tests {
         // Shrinking a 4-texel row to 2 averages pairs.
         let row = [Vec4::ZERO, Vec4::ONE, Vec4::ONE, Vec4::ONE];
         assert_eq!(resample(&row, 2), vec![Vec4::splat(0.5), Vec4::ONE]);
+    }
+    #[test]
+    fn the_table_encodes_every_value_as_powf_does() {
+        let e = encoder();
+        let mut values: Vec<f32> = (0..=1.0f32.to_bits()).step_by(1001).map(f32::from_bits).collect();
+        // Each step of the curve and the floats beside it.
+        for r in e.rise {
+            let b = r.to_bits();
+            values.extend((b.saturating_sub(3)..=b + 3).map(f32::from_bits));
+        }
+        values.extend([-1.0, -0.0, 1.0, 1.5, f32::INFINITY]);
+        for v in values {
+            assert_eq!(e.encode(v), linear_to_srgb(v), "{v:e}");
+        }
+        // Bytes come back: decoding then encoding is the identity.
+        let lut = srgb_to_linear_table();
+        assert!((0..=255u8).all(|b| e.encode(lut[b as usize]) == b));
+    }
+
+    #[test]
+    fn an_image_of_its_class_size_skips_resampling_and_gets_the_same_chain() {
+        let mut state = 12345u32;
+        let mut byte = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 24) as u8
+        };
+        let mut img = image(8, 8, |_, _| [0; 4]);
+        img.rgba.iter_mut().for_each(|b| *b = byte());
+        for linear in [false, true] {
+            img.linear = linear;
+            let fast = mip_chain(&img, 8);
+            assert_eq!(fast, chain_by_resampling(&img, 8), "linear {linear}");
+            if !linear {
+                assert_eq!(fast[0], img.rgba, "sRGB texels are kept as they are");
+            }
+        }
     }
 }

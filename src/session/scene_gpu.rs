@@ -54,6 +54,8 @@ pub struct SceneGpu {
     pub buffers: SceneBuffers,
     /// The scene's textures, by size class, and their sampler.
     pub textures: TextureArrays,
+    /// How long `new` took, by stage.
+    pub load: LoadTimes,
     /// The ray-offset scale of the scene as loaded (its size does not change
     /// when things move enough to matter: a power of two near half the
     /// extent).
@@ -69,6 +71,17 @@ pub struct SceneGpu {
     pinned: bool,
 }
 
+/// Where `SceneGpu::new`'s time went, in milliseconds.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LoadTimes {
+    /// Packing the scene's arrays and building its BVH.
+    pub pack_and_bvh_ms: f64,
+    /// Uploading the scene's arrays.
+    pub buffers_ms: f64,
+    /// Resampling the textures to their classes, their mips, and uploading.
+    pub textures_ms: f64,
+}
+
 /// The camera may get this many offset scales (about half the scene's
 /// extent each) away from the origin, in any axis, before the scene is
 /// rebased on it: positions on the GPU then stay within a few extents of
@@ -80,6 +93,8 @@ impl SceneGpu {
     /// Packs the scene, builds its BVH and uploads it, inside error scopes:
     /// a driver that refuses the buffers is a clear error.
     pub fn new(gpu: &Gpu, scene: Scene) -> Result<SceneGpu, UserError> {
+        let start = std::time::Instant::now();
+        let ms_since = |t: std::time::Instant| t.elapsed().as_secs_f64() * 1e3;
         let mut bvh = SceneBvh::default();
         let bounds = scene.bounds();
         let extent = bounds.map_or(0.0, |(lo, hi)| (hi - lo).max_element());
@@ -90,8 +105,13 @@ impl SceneGpu {
         check_scene_sizes(gpu, &data)?;
         let oom = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let invalid = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pack_and_bvh_ms = ms_since(start);
+        let at = std::time::Instant::now();
         let buffers = SceneBuffers::new(&gpu.device, &gpu.queue, data);
+        let buffers_ms = ms_since(at);
+        let at = std::time::Instant::now();
         let textures = TextureArrays::new(&gpu.device, &gpu.queue, scene.textures());
+        let load = LoadTimes { pack_and_bvh_ms, buffers_ms, textures_ms: ms_since(at) };
         // Both scopes are popped before any error returns: a scope left
         // pushed would swallow the device's later errors.
         let refused = [pollster::block_on(invalid.pop()), pollster::block_on(oom.pop())];
@@ -99,7 +119,7 @@ impl SceneGpu {
             return Err(UserError::new(format!("{} refused the scene's buffers or textures: {e}; use fewer or smaller meshes and textures", gpu.describe())));
         }
         let textures = textures.map_err(|e| UserError::in_file(&scene.path, e))?;
-        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, textures, offset_scale, origin, bounds, pinned: false })
+        Ok(SceneGpu { scene, bvh, bvh_stats, buffers, textures, load, offset_scale, origin, bounds, pinned: false })
     }
 
     /// The graph's probe grid over the bounds as loaded, relative to the

@@ -183,12 +183,17 @@ fn read_root(root: gltf::json::Root, blob: Option<Vec<u8>>, dir: &Path) -> Resul
     let materials = doc.materials().map(|m| materials::convert(&m)).collect::<Result<Vec<_>, _>>()?;
     let material_textures =
         doc.materials().map(|m| textures::material_textures(&m, &format!("materials[{}]", m.index().unwrap_or(0)))).collect::<Result<Vec<_>, _>>()?;
+    let mut wanted = Vec::new();
+    for t in material_textures.iter().flat_map(|m| [m.base_color, m.emissive, m.metallic_roughness, m.normal.map(|n| n.0)]).flatten() {
+        if !wanted.contains(&t.image) {
+            wanted.push(t.image);
+        }
+    }
     let mut images = vec![None; doc.images().len()];
     let mut files = buffers.files;
-    for t in material_textures.iter().flat_map(|m| [m.base_color, m.emissive, m.metallic_roughness, m.normal.map(|n| n.0)]).flatten() {
-        if images[t.image].is_none() {
-            images[t.image] = Some(textures::decode(&doc, t.image, &buffers.data, dir, &mut files)?);
-        }
+    for (&i, (image, file)) in wanted.iter().zip(textures::decode_all(&doc, &wanted, &buffers.data, dir)?) {
+        images[i] = Some(image);
+        files.extend(file);
     }
     let mut warnings = placed.warnings;
     if !ignored.is_empty() {
