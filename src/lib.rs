@@ -9,6 +9,7 @@
 
 #![warn(missing_docs)]
 
+pub mod batches;
 pub mod blue_noise;
 pub mod brdf;
 pub mod bvh;

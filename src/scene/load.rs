@@ -455,6 +455,16 @@ impl<'a, 'l> Builder<'a, 'l> {
             self.materials.extend_from_slice(&file.materials);
         }
         if material.is_none() {
+            // Every image the MTL names, decoded on every core first, in the
+            // order the loops below take them (so textures keep their order).
+            let wanted: Vec<(&Path, bool)> = file
+                .diffuse_maps
+                .iter()
+                .flatten()
+                .map(|(_, image)| (image.as_path(), false))
+                .chain(file.normal_maps.iter().flatten().map(|(_, image, _)| (image.as_path(), true)))
+                .collect();
+            self.prefetch_images(&wanted);
             for (k, map) in file.diffuse_maps.iter().enumerate() {
                 let Some((name, image)) = map else { continue };
                 let texture = self.image_file(image).map_err(|e| {
@@ -510,12 +520,28 @@ impl<'a, 'l> Builder<'a, 'l> {
         if let Some(&(_, _, t)) = self.image_files.iter().find(|(p, l, _)| p == path && *l == linear) {
             return Ok(t);
         }
-        let bytes = std::fs::read(path).map_err(|e| format!("cannot read it: {e}"))?;
-        let mut image = TextureImage::decode(&bytes)?;
-        image.linear = linear;
+        let image = read_image(path, linear)?;
         self.textures.push(image);
         self.image_files.push((path.to_path_buf(), linear, self.textures.len() - 1));
         Ok(self.textures.len() - 1)
+    }
+
+    /// Reads the image files of `wanted` (path, use) not read yet into the
+    /// scene's textures, in that order, decoding on every core; one that
+    /// cannot be read is left for `image_file_as` to report where it is used.
+    fn prefetch_images(&mut self, wanted: &[(&Path, bool)]) {
+        let mut new: Vec<(&Path, bool)> = Vec::new();
+        for &(path, linear) in wanted {
+            if !new.contains(&(path, linear)) && !self.image_files.iter().any(|(p, l, _)| p == path && *l == linear) {
+                new.push((path, linear));
+            }
+        }
+        crate::batches::in_batches(&new, |&(path, linear)| read_image(path, linear), |&(path, linear), image| {
+            if let Ok(image) = image {
+                self.textures.push(image);
+                self.image_files.push((path.to_path_buf(), linear, self.textures.len() - 1));
+            }
+        });
     }
 
     fn default_material(&mut self) -> u32 {
@@ -559,6 +585,14 @@ impl<'a, 'l> Builder<'a, 'l> {
 }
 
 /// A RON object's rotation: degrees about x, then y, then z.
+/// An image file as a texture: colour (sRGB) or, `linear`, data.
+fn read_image(path: &Path, linear: bool) -> Result<TextureImage, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read it: {e}"))?;
+    let mut image = TextureImage::decode(&bytes)?;
+    image.linear = linear;
+    Ok(image)
+}
+
 fn rotation(rotate_deg: [f32; 3]) -> Quat {
     let [x, y, z] = rotate_deg.map(f32::to_radians);
     Quat::from_euler(EulerRot::XYZ, x, y, z)

@@ -78,19 +78,9 @@ impl TextureArrays {
 }
 
 /// Hands `upload` the mip chain of each of `members` (image, layer) at
-/// class side `side`, with its layer, in order. The chains are worked out
-/// a batch at a time on every core (each is independent of the others;
-/// one core took 2.3 s for a Sponza-class scene's 69 images), and each
-/// batch is uploaded before the next is made, so only a batch is held.
+/// class side `side`, with its layer, in order: worked out on every core
+/// (each is independent of the others), a batch uploaded before the next
+/// is made.
 fn for_each_mip_chain(members: &[(&TextureImage, u32)], side: u32, mut upload: impl FnMut(u32, &[Vec<u8>])) {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    for batch in members.chunks(cores) {
-        let chains: Vec<(u32, Vec<Vec<u8>>)> = std::thread::scope(|s| {
-            let handles: Vec<_> = batch.iter().map(|&(t, layer)| s.spawn(move || (layer, texture_classes::mip_chain(t, side)))).collect();
-            handles.into_iter().map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
-        });
-        for (layer, chain) in &chains {
-            upload(*layer, chain);
-        }
-    }
+    crate::batches::in_batches(members, |&(t, _)| texture_classes::mip_chain(t, side), |&(_, layer), chain| upload(layer, &chain));
 }

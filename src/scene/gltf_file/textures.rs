@@ -112,18 +112,9 @@ fn texture_ref(texture: &gltf::Texture, tex_coord: u32, transform_ext: Option<gl
 /// names (if any): a batch at a time on every core (decoding JPEGs was half
 /// of a Sponza-class scene's load on one); the first error in that order.
 pub(crate) fn decode_all(doc: &gltf::Document, wanted: &[usize], buffers: &[Vec<u8>], dir: &Path) -> Result<Vec<(TextureImage, Option<PathBuf>)>, String> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut out = Vec::with_capacity(wanted.len());
-    for batch in wanted.chunks(cores) {
-        let decoded: Vec<Result<_, String>> = std::thread::scope(|s| {
-            let handles: Vec<_> = batch.iter().map(|&i| s.spawn(move || decode(doc, i, buffers, dir))).collect();
-            handles.into_iter().map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
-        });
-        for d in decoded {
-            out.push(d?);
-        }
-    }
-    Ok(out)
+    crate::batches::in_batches(wanted, |&i| decode(doc, i, buffers, dir), |_, d| out.push(d));
+    out.into_iter().collect()
 }
 
 /// Decodes image `index` of `doc`, with the file it names (if any).
