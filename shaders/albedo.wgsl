@@ -7,8 +7,8 @@
 @group(0) @binding(0) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(1) var albedo: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var lit: texture_storage_2d<rgba32float, write>;
-// (The hit point: where a textured material is read.)
-@group(0) @binding(3) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+// (What the hit's textures multiply its material by.)
+@group(0) @binding(3) var gbuf_material: texture_storage_2d<rgba32uint, read>;
 
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
@@ -19,7 +19,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let miss = ids.y == NO_OBJECT;
     // One store per texture, chosen by select: CPU drivers run every
     // branch under a lane mask, so a store in each would cost three.
-    let m = gbuffer_material(ids, textureLoad(gbuf_pos, id.xy));
+    let m = stored_material(ids, textureLoad(gbuf_material, id.xy));
     let shown = select(select(m.albedo, m.emission, is_emissive(m)), frame.background, miss);
     let unlit = unlit_radiance(m, miss);
     textureStore(albedo, id.xy, vec4f(shown, 1.0));

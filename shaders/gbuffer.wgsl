@@ -1,6 +1,9 @@
 // G-buffer: one primary ray per pixel (jittered per frame when `jitter` is
 // 1, for accumulation). Writes hit position and distance, the shading
-// normal faced toward the camera (w: the material's specular share), and (material, object) ids.
+// normal faced toward the camera (w: the material's specular share),
+// (material, object) ids, and in a textured scene what the hit's textures
+// multiply its material by (the passes that shade it read them there
+// instead of sampling the textures again).
 // A miss stores distance -1 and the ray direction in xyz, object NO_HIT.
 #import origins
 #import rng
@@ -13,6 +16,7 @@ struct Params {
 @group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(3) var gbuf_id: texture_storage_2d<rgba32uint, write>;
+@group(0) @binding(4) var gbuf_material: texture_storage_2d<rgba32uint, write>;
 
 const SALT: u32 = 0x67627566u;
 
@@ -34,8 +38,9 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // Two-sided surfaces: face the normals toward the viewer; w: the
     // specular share, so accumulate knows what is view-dependent.
     // (Bent by the material's normal texture, where it has one.)
+    let surface = surface_factors(load_material(hit.material), hit.material, select(NO_OBJECT, hit.prim, found), hit.position, rd, hit.t * pixel_spread(), hit.normal);
     var shaded = hit;
-    shaded.normal = mapped_normal(hit.material, hit.prim, hit.position, rd, hit.t * pixel_spread(), hit.normal);
+    shaded.normal = surface.n;
     let normal = vec4f(facing(shaded, rd).n, material_specular(hit.material));
     textureStore(gbuf_pos, id.xy, select(vec4f(rd, -1.0), vec4f(hit.position, hit.t), found));
     textureStore(gbuf_normal, id.xy, select(vec4f(0.0), normal, found));
@@ -44,4 +49,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // textured materials read (shared/textures.wgsl).
     let error = bitcast<u32>(gbuffer_offset_error(hit));
     textureStore(gbuf_id, id.xy, select(vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), vec4u(hit.material, hit.object, error, hit.prim), found));
+    // (Stored in every scene, all ones without textures, so the texture is
+    // always defined.)
+    textureStore(gbuf_material, id.xy, pack_factors(surface.factors));
 }

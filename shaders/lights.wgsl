@@ -33,6 +33,7 @@ struct Params {
 @group(0) @binding(3) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var gbuf_material: texture_storage_2d<rgba32uint, read>;
 
 const SALT: u32 = 0x6c696768u;
 
@@ -43,7 +44,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let ids = textureLoad(gbuf_id, id.xy);
     let miss = ids.y == NO_OBJECT;
-    let m = gbuffer_material(ids, textureLoad(gbuf_pos, id.xy));
+    let m = stored_material(ids, textureLoad(gbuf_material, id.xy));
     // One store, the light added only where a lit surface is: CPU drivers
     // run every branch under a lane mask, so an early store for the other
     // pixels would be a second store for all of them.
@@ -61,7 +62,7 @@ fn first(@builtin(global_invocation_id) id: vec3u) {
     }
     let ids = textureLoad(gbuf_id, id.xy);
     let miss = ids.y == NO_OBJECT;
-    let m = gbuffer_material(ids, textureLoad(gbuf_pos, id.xy));
+    let m = stored_material(ids, textureLoad(gbuf_material, id.xy));
     let lit_surface = !miss && !is_emissive(m);
     textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss), 1.0), bitcast<f32>(ids.z)));
 }

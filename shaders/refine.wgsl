@@ -19,6 +19,7 @@ struct Params {
 @group(0) @binding(4) var gbuf_id: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(5) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(6) var lit: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(7) var gbuf_material: texture_storage_2d<rgba32uint, read>;
 
 const SALT: u32 = 0x72656669u;
 
@@ -50,7 +51,7 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     // A lit surface (main listed no other): its albedo is the material's,
     // what the albedo pass would have stored.
-    let base = diffuse_albedo(gbuffer_material(ids, pos));
+    let base = diffuse_albedo(stored_material(ids, textureLoad(gbuf_material, id.xy)));
     let o = offset_by(p, n, bitcast<f32>(ids.z));
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);

@@ -30,6 +30,13 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
                 }
                 p[3] = 1.0;
             }
+            // What the textures multiply the base colour by (unorm16
+            // pairs; the u32s arrive as f32, exact in their high halves).
+            "gbuf_material" => {
+                let lo = |v: f32| (v as u32 & 0xffff) as f32 / 65535.0;
+                let hi = |v: f32| (v as u32 >> 16) as f32 / 65535.0;
+                *p = [lo(p[0]), hi(p[0]), lo(p[1]), 1.0];
+            }
             "gbuf_id" => {
                 let (m, o) = (p[0] as u32, p[1] as u32);
                 let h = |x: u32, k: u32| (x.wrapping_mul(2654435761).wrapping_add(k) >> 24) as f32 / 255.0;

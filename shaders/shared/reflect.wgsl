@@ -18,6 +18,7 @@ struct Params {
 @group(0) @binding(4) var lit_in: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(5) var lit: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var reflect_reuse: texture_storage_2d<r32float, write>;
+@group(0) @binding(7) var gbuf_material: texture_storage_2d<rgba32uint, read>;
 
 const SALT: u32 = 0x7265666cu;
 // Screen-space reuse accepts a G-buffer point this close to the hit's
@@ -97,7 +98,7 @@ fn reflect_begin(id: vec3u) -> Reflection {
     r.color = before.rgb;
     r.rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     let pos = textureLoad(gbuf_pos, id.xy);
-    let m0 = gbuffer_material(ids, pos);
+    let m0 = stored_material(ids, textureLoad(gbuf_material, id.xy));
     r.cone = pos.w * pixel_spread();
     r.p = pos.xyz;
     r.n = normalize(textureLoad(gbuf_normal, id.xy).xyz);

@@ -9,6 +9,11 @@
 #import brdf
 
 override SCENE_TEXTURES: bool = true;
+// Which texture size classes hold images (src/scene/specialise.rs).
+override SCENE_TEXTURES_256: bool = true;
+override SCENE_TEXTURES_512: bool = true;
+override SCENE_TEXTURES_1024: bool = true;
+override SCENE_TEXTURES_2048: bool = true;
 // Some material is alpha-tested (alphaMode MASK): traversal asks
 // alpha_passes of each triangle it would take.
 override SCENE_ALPHA_MASK: bool = true;
@@ -41,20 +46,23 @@ fn sample_slot(slot: u32, uv_in: vec2f, wrap: vec2u, lod_uv: f32) -> vec4f {
     uv = select(uv, 1.0 - abs(fract(uv * 0.5) * 2.0 - 1.0), wrap == vec2u(2u));
     uv = select(uv, clamp(uv, vec2f(edge), vec2f(1.0 - edge)), wrap != vec2u(0u));
     let layer = i32(slot & 0xffffu);
-    switch slot >> 16u {
-        case 0u: {
-            return textureSampleLevel(scene_images_256, scene_sampler, uv, layer, lod_uv + 8.0);
-        }
-        case 1u: {
-            return textureSampleLevel(scene_images_512, scene_sampler, uv, layer, lod_uv + 9.0);
-        }
-        case 2u: {
-            return textureSampleLevel(scene_images_1024, scene_sampler, uv, layer, lod_uv + 10.0);
-        }
-        default: {
-            return textureSampleLevel(scene_images_2048, scene_sampler, uv, layer, lod_uv + 11.0);
-        }
+    // One read per size class the scene has (SCENE_TEXTURES_<side>): CPU
+    // drivers run each under a lane mask for every texel sampled.
+    let size_class = slot >> 16u;
+    var texel = vec4f(0.0);
+    if SCENE_TEXTURES_256 && size_class == 0u {
+        texel = textureSampleLevel(scene_images_256, scene_sampler, uv, layer, lod_uv + 8.0);
     }
+    if SCENE_TEXTURES_512 && size_class == 1u {
+        texel = textureSampleLevel(scene_images_512, scene_sampler, uv, layer, lod_uv + 9.0);
+    }
+    if SCENE_TEXTURES_1024 && size_class == 2u {
+        texel = textureSampleLevel(scene_images_1024, scene_sampler, uv, layer, lod_uv + 10.0);
+    }
+    if SCENE_TEXTURES_2048 && size_class >= 3u {
+        texel = textureSampleLevel(scene_images_2048, scene_sampler, uv, layer, lod_uv + 11.0);
+    }
+    return texel;
 }
 
 // uv' = (row u . (uv, 1), row v . (uv, 1)) and the log2 of how it scales
@@ -143,39 +151,103 @@ fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material 
     return textured(m, id, slots, mr_slot, surface_uv(prim, p, rd, width));
 }
 
+// What a hit's textures multiply its material by: the base colour, the
+// emission and (metallic-roughness materials) the roughness and
+// metalness; 1 where the material has no such texture.
+struct TextureFactors {
+    base: vec3f,
+    emission: vec3f,
+    rough_metal: vec2f,
+}
+
+const NO_FACTORS = TextureFactors(vec3f(1.0), vec3f(1.0), vec2f(1.0));
+
 // `m` (material `id`) with its textures applied at s: `slots` its record's
 // first texel, `mr_slot` its metallic-roughness texture (NO_TEXTURE: none
 // read).
-fn textured(m_in: Material, id: u32, slots: vec4u, mr_slot: u32, s: SurfaceUv) -> Material {
-    var m = m_in;
+fn textured(m: Material, id: u32, slots: vec4u, mr_slot: u32, s: SurfaceUv) -> Material {
+    return with_factors(m, texture_factors(id, slots, mr_slot, s));
+}
+
+// The factors of material `id`'s textures at s (as `textured`).
+fn texture_factors(id: u32, slots: vec4u, mr_slot: u32, s: SurfaceUv) -> TextureFactors {
+    var f = NO_FACTORS;
     if slots.x != NO_TEXTURE {
-        m.albedo *= sample_material(id, slots.x, 1u, slots.z, 0u, s).rgb;
+        f.base = sample_material(id, slots.x, 1u, slots.z, 0u, s).rgb;
     }
     if slots.y != NO_TEXTURE {
-        m.emission *= sample_material(id, slots.y, 3u, slots.z, 4u, s).rgb;
+        f.emission = sample_material(id, slots.y, 3u, slots.z, 4u, s).rgb;
     }
     if mr_slot != NO_TEXTURE {
         // glTF: green is roughness, blue metalness (linear data).
-        let t = sample_material(id, mr_slot, 6u, slots.z, 8u, s);
-        m.roughness *= t.g;
-        m.metallic *= t.b;
+        f.rough_metal = sample_material(id, mr_slot, 6u, slots.z, 8u, s).gb;
+    }
+    return f;
+}
+
+// `m` times its texture factors f; a metallic-roughness material's
+// specular share follows its metalness.
+fn with_factors(m_in: Material, f: TextureFactors) -> Material {
+    var m = m_in;
+    m.albedo *= f.base;
+    m.emission *= f.emission;
+    if is_metal_rough(m) && any(f.rough_metal != vec2f(1.0)) {
+        m.roughness *= f.rough_metal.x;
+        m.metallic *= f.rough_metal.y;
         m.specular = m.metallic + DIELECTRIC_F0 * (1.0 - m.metallic);
     }
     return m;
 }
 
-// The shading normal at point p of triangle `prim` of material `id`: `n`
-// (the interpolated normal, unflipped) bent by the material's normal
-// texture, if it has one (bent_normal).
-fn mapped_normal(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) -> vec3f {
+// A hit's bent shading normal and texture factors: material `id` (loaded:
+// m) at point p of triangle `prim`, reached along rd by a ray cone `width`
+// wide there, `n` its interpolated normal (n and NO_FACTORS for a sphere,
+// a miss or an untextured material); the triangle's uvs read once.
+struct SurfaceFactors {
+    n: vec3f,
+    factors: TextureFactors,
+}
+
+fn surface_factors(m: Material, id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) -> SurfaceFactors {
     if !SCENE_TEXTURES || prim == NO_OBJECT {
-        return n;
+        return SurfaceFactors(n, NO_FACTORS);
     }
+    let slots = material_texel(id, 0u);
     let more = material_texel(id, 5u);
-    if more.y == NO_TEXTURE {
-        return n;
+    let mr_slot = select(NO_TEXTURE, more.x, is_metal_rough(m));
+    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE && more.y == NO_TEXTURE {
+        return SurfaceFactors(n, NO_FACTORS);
     }
-    return bent_normal(id, more.y, bitcast<f32>(more.z), material_texel(id, 0u).z, surface_uv(prim, p, rd, width), n);
+    let s = surface_uv(prim, p, rd, width);
+    var out = SurfaceFactors(n, texture_factors(id, slots, mr_slot, s));
+    if more.y != NO_TEXTURE {
+        out.n = bent_normal(id, more.y, bitcast<f32>(more.z), slots.z, s, n);
+    }
+    return out;
+}
+
+// Texture factors as gbuf_material holds them: eight unorm16 values (the
+// textures' own texels are 8-bit; 1 stays exactly 1).
+fn pack_factors(f: TextureFactors) -> vec4u {
+    return vec4u(pack2x16unorm(f.base.rg), pack2x16unorm(vec2f(f.base.b, f.emission.r)), pack2x16unorm(f.emission.gb), pack2x16unorm(f.rough_metal));
+}
+
+fn unpack_factors(v: vec4u) -> TextureFactors {
+    let b = unpack2x16unorm(v.y);
+    let e = unpack2x16unorm(v.z);
+    return TextureFactors(vec3f(unpack2x16unorm(v.x), b.x), vec3f(b.y, e), unpack2x16unorm(v.w));
+}
+
+// The material a G-buffer pixel shows, its texture factors read from
+// gbuf_material (`packed`) rather than sampled again: CPU drivers run the
+// sampling code under a lane mask for every pixel, textured or not, so
+// each pass that sampled it paid for it everywhere. ids as gbuffer.wgsl
+// writes them.
+fn stored_material(ids: vec4u, packed: vec4u) -> Material {
+    if !SCENE_TEXTURES || ids.y == NO_OBJECT {
+        return load_material(select(ids.x, 0u, ids.y == NO_OBJECT));
+    }
+    return with_factors(load_material(ids.x), unpack_factors(packed));
 }
 
 // `n` bent by normal texture `slot` of material `id` (x and y times
@@ -208,25 +280,12 @@ struct ShadedSurface {
     n: vec3f,
 }
 
-// material_at and mapped_normal at once, the material's record and the
-// triangle's vertices and uvs read once (the path tracer's hits).
+// material_at and the bent normal at once (surface_factors; the path
+// tracer's hits).
 fn shaded_surface_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32, n: vec3f) -> ShadedSurface {
     let m = load_material(id);
-    if !SCENE_TEXTURES || prim == NO_OBJECT {
-        return ShadedSurface(m, n);
-    }
-    let slots = material_texel(id, 0u);
-    let more = material_texel(id, 5u);
-    let mr_slot = select(NO_TEXTURE, more.x, is_metal_rough(m));
-    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE && more.y == NO_TEXTURE {
-        return ShadedSurface(m, n);
-    }
-    let s = surface_uv(prim, p, rd, width);
-    var out = ShadedSurface(textured(m, id, slots, mr_slot, s), n);
-    if more.y != NO_TEXTURE {
-        out.n = bent_normal(id, more.y, bitcast<f32>(more.z), slots.z, s, n);
-    }
-    return out;
+    let s = surface_factors(m, id, prim, p, rd, width, n);
+    return ShadedSurface(with_factors(m, s.factors), s.n);
 }
 
 // The material a G-buffer pixel shows: ids as gbuffer.wgsl writes them
@@ -251,20 +310,20 @@ fn alpha_at(slot: u32, uv_in: vec2f, wrap: vec2u) -> f32 {
     uv = select(fract(uv), clamp(uv, vec2f(0.0), vec2f(1.0)), wrap != vec2u(0u));
     let texel = min(vec2u(uv * f32(side)), vec2u(side - 1u));
     let layer = i32(slot & 0xffffu);
-    switch size_class {
-        case 0u: {
-            return textureLoad(scene_images_256, texel, layer, 0).a;
-        }
-        case 1u: {
-            return textureLoad(scene_images_512, texel, layer, 0).a;
-        }
-        case 2u: {
-            return textureLoad(scene_images_1024, texel, layer, 0).a;
-        }
-        default: {
-            return textureLoad(scene_images_2048, texel, layer, 0).a;
-        }
+    var alpha = 1.0;
+    if SCENE_TEXTURES_256 && size_class == 0u {
+        alpha = textureLoad(scene_images_256, texel, layer, 0).a;
     }
+    if SCENE_TEXTURES_512 && size_class == 1u {
+        alpha = textureLoad(scene_images_512, texel, layer, 0).a;
+    }
+    if SCENE_TEXTURES_1024 && size_class == 2u {
+        alpha = textureLoad(scene_images_1024, texel, layer, 0).a;
+    }
+    if SCENE_TEXTURES_2048 && size_class == 3u {
+        alpha = textureLoad(scene_images_2048, texel, layer, 0).a;
+    }
+    return alpha;
 }
 
 // Whether triangle `prim` of `material` is there at barycentrics `bary`

@@ -62,6 +62,8 @@ pub struct SceneFeatures {
     pub motion: bool,
     /// Some surface samples a texture (base colour or emission).
     pub textures: bool,
+    /// Which texture size classes (`texture_classes::CLASSES`) hold images.
+    pub texture_classes: [bool; 4],
     /// Some point light has a cone.
     pub spot_lights: bool,
     /// Some light is directional (`point_lights` is set too: the passes
@@ -97,6 +99,7 @@ impl SceneFeatures {
             emissive: true,
             motion: true,
             textures: true,
+            texture_classes: [true; 4],
             spot_lights: true,
             directional_lights: true,
             alpha_mask: true,

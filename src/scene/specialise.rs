@@ -56,8 +56,14 @@ pub const SCENE_ALPHA_MASK: &str = "SCENE_ALPHA_MASK";
 /// Whether some material is glTF's metallic-roughness (shared/brdf.wgsl).
 pub const SCENE_METALLIC_ROUGHNESS: &str = "SCENE_METALLIC_ROUGHNESS";
 
+/// Whether each texture size class (256, 512, 1024, 2048) holds images
+/// (shared/textures.wgsl, sample_slot): a class without any is never
+/// sampled, and its reads are compiled out (CPU drivers run each class's
+/// read under a lane mask for every texel a shader samples).
+pub const SCENE_TEXTURE_CLASSES: [&str; 4] = ["SCENE_TEXTURES_256", "SCENE_TEXTURES_512", "SCENE_TEXTURES_1024", "SCENE_TEXTURES_2048"];
+
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 12] = [
+pub const GENERIC: [(&str, bool); 16] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -70,6 +76,10 @@ pub const GENERIC: [(&str, bool); 12] = [
     (SCENE_ALPHA_MASK, true),
     (SCENE_DIRECTIONAL_LIGHTS, true),
     (SCENE_METALLIC_ROUGHNESS, true),
+    (SCENE_TEXTURE_CLASSES[0], true),
+    (SCENE_TEXTURE_CLASSES[1], true),
+    (SCENE_TEXTURE_CLASSES[2], true),
+    (SCENE_TEXTURE_CLASSES[3], true),
 ];
 
 /// The specialisations for a scene with `f`: only the constants that
@@ -117,6 +127,13 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     if !f.metal_rough {
         out.push(Specialisation { constant: SCENE_METALLIC_ROUGHNESS, value: false, reason: "no metallic-roughness material: its BRDF compiled out" });
     }
+    if f.textures {
+        for (constant, present) in SCENE_TEXTURE_CLASSES.into_iter().zip(f.texture_classes) {
+            if !present {
+                out.push(Specialisation { constant, value: false, reason: "no texture of this size class: its reads compiled out" });
+            }
+        }
+    }
     out
 }
 
@@ -154,9 +171,18 @@ mod tests {
 
     #[test]
     fn an_empty_scene_has_every_specialisation_but_one_light() {
+        // (Its size classes go with the textures: no texture is read at all.)
         let got = names(&SceneFeatures::default());
-        let want: Vec<_> = GENERIC.iter().filter(|(c, _)| *c != SCENE_ONE_LIGHT).map(|(c, v)| (*c, !v)).collect();
+        let want: Vec<_> = GENERIC.iter().filter(|(c, _)| *c != SCENE_ONE_LIGHT && !SCENE_TEXTURE_CLASSES.contains(c)).map(|(c, v)| (*c, !v)).collect();
         assert_eq!(got, want);
+    }
+
+    #[test]
+    fn a_textured_scene_keeps_the_reads_of_its_size_classes_only() {
+        let mut f = SceneFeatures::all();
+        f.texture_classes = [false, true, false, false];
+        let off: Vec<_> = specialisations(&f).iter().map(|s| (s.constant, s.value)).collect();
+        assert_eq!(off, [("SCENE_TEXTURES_256", false), ("SCENE_TEXTURES_1024", false), ("SCENE_TEXTURES_2048", false)]);
     }
 
     #[test]

@@ -72,17 +72,21 @@ fn an_unknown_constant_is_an_error_in_words() {
     assert!(e.contains("NOPE"), "{e}");
 }
 
-/// The lights pass of a scene without textures loses the texture code: the
-/// driver no longer compiles what the scene can never run.
+/// The G-buffer pass of a scene without textures loses the texture code:
+/// the driver no longer compiles what the scene can never run. The lights
+/// pass has none either way: it reads the G-buffer's texture factors.
 #[test]
-fn the_lights_pass_of_an_untextured_scene_has_no_texture_code() {
-    let s = crate::shader::load(Path::new("shaders"), "lights.wgsl").unwrap();
+fn the_gbuffer_pass_of_an_untextured_scene_has_no_texture_code() {
+    let s = crate::shader::load(Path::new("shaders"), "gbuffer.wgsl").unwrap();
     let plain = specialised_module(&s, "main", &[("SCENE_TEXTURES", 0.0), ("SCENE_METALLIC_ROUGHNESS", 0.0)]).unwrap();
     let textured = specialised_module(&s, "main", &[("SCENE_TEXTURES", 1.0), ("SCENE_METALLIC_ROUGHNESS", 1.0)]).unwrap();
     let (p, t) = (function_names(&plain), function_names(&textured));
     assert!(!p.contains(&"sample_material".to_string()), "{p:?}");
     assert!(t.contains(&"sample_material".to_string()), "{t:?}");
     assert!(p.len() < t.len(), "{} functions against {}", p.len(), t.len());
+    let lights = crate::shader::load(Path::new("shaders"), "lights.wgsl").unwrap();
+    let lit = specialised_module(&lights, "main", &[("SCENE_TEXTURES", 1.0), ("SCENE_METALLIC_ROUGHNESS", 1.0)]).unwrap();
+    assert!(!function_names(&lit).contains(&"sample_material".to_string()));
 }
 
 /// `!FLAG || x` is true with FLAG false whatever x is; naga lowers it to a
