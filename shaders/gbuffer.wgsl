@@ -49,7 +49,8 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // textured materials read (shared/textures.wgsl).
     let error = bitcast<u32>(gbuffer_offset_error(hit));
     textureStore(gbuf_id, id.xy, select(vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), vec4u(hit.material, hit.object, error, hit.prim), found));
-    // (Stored in every scene, all ones without textures, so the texture is
-    // always defined.)
-    textureStore(gbuf_material, id.xy, pack_factors(surface.factors));
+    // (Not written in a scene without textures: nothing reads it there.)
+    if SCENE_TEXTURES {
+        textureStore(gbuf_material, id.xy, pack_factors(surface.factors));
+    }
 }
