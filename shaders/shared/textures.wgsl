@@ -14,6 +14,9 @@ override SCENE_TEXTURES_256: bool = true;
 override SCENE_TEXTURES_512: bool = true;
 override SCENE_TEXTURES_1024: bool = true;
 override SCENE_TEXTURES_2048: bool = true;
+// Some texture has a uv transform other than the identity
+// (KHR_texture_transform): without one, no transform is read.
+override SCENE_TEXTURE_TRANSFORMS: bool = true;
 // Some material is alpha-tested (alphaMode MASK): traversal asks
 // alpha_passes of each triangle it would take.
 override SCENE_ALPHA_MASK: bool = true;
@@ -124,9 +127,10 @@ fn material_texel(id: u32, k: u32) -> vec4u {
 // Texture `slot` of material `id`, its transform at texels k, k + 1 and
 // its wrap bits at `shift` of `wrap_bits`, read at s.
 fn sample_material(id: u32, slot: u32, k: u32, wrap_bits: u32, shift: u32, s: SurfaceUv) -> vec4f {
-    let u = bitcast<vec4f>(material_texel(id, k));
-    let v = bitcast<vec4f>(material_texel(id, k + 1u));
-    let t = transform_uv(u, v, s.uv);
+    var t = vec3f(s.uv, 0.0);
+    if SCENE_TEXTURE_TRANSFORMS {
+        t = transform_uv(bitcast<vec4f>(material_texel(id, k)), bitcast<vec4f>(material_texel(id, k + 1u)), s.uv);
+    }
     let wrap = vec2u((wrap_bits >> shift) & 3u, (wrap_bits >> (shift + 2u)) & 3u);
     return sample_slot(slot, t.xy, wrap, s.lod_uv + t.z);
 }
@@ -345,8 +349,9 @@ fn alpha_passes(material: u32, prim: u32, bary: vec2f) -> bool {
     let t01 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim));
     let t2 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim + 1u)).xy;
     let uv = (1.0 - bary.x - bary.y) * t01.xy + bary.x * t01.zw + bary.y * t2;
-    let u = bitcast<vec4f>(material_texel(material, 1u));
-    let v = bitcast<vec4f>(material_texel(material, 2u));
-    let t = transform_uv(u, v, uv);
-    return alpha_at(slots.x, t.xy, vec2u(slots.z & 3u, (slots.z >> 2u) & 3u)) >= threshold;
+    var t = uv;
+    if SCENE_TEXTURE_TRANSFORMS {
+        t = transform_uv(bitcast<vec4f>(material_texel(material, 1u)), bitcast<vec4f>(material_texel(material, 2u)), uv).xy;
+    }
+    return alpha_at(slots.x, t, vec2u(slots.z & 3u, (slots.z >> 2u) & 3u)) >= threshold;
 }

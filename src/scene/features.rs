@@ -64,6 +64,8 @@ pub struct SceneFeatures {
     pub textures: bool,
     /// Which texture size classes (`texture_classes::CLASSES`) hold images.
     pub texture_classes: [bool; 4],
+    /// Some texture has a uv transform other than the identity.
+    pub texture_transforms: bool,
     /// Some point light has a cone.
     pub spot_lights: bool,
     /// Some light is directional (`point_lights` is set too: the passes
@@ -100,6 +102,7 @@ impl SceneFeatures {
             motion: true,
             textures: true,
             texture_classes: [true; 4],
+            texture_transforms: true,
             spot_lights: true,
             directional_lights: true,
             alpha_mask: true,

@@ -308,6 +308,10 @@ impl<'a, 'l> Builder<'a, 'l> {
         features.textures = used(&|m| m.base_color.is_some() || m.emissive.is_some() || m.metallic_roughness.is_some() || m.normal.is_some());
         features.alpha_mask = used(&|m| m.alpha_mask.is_some());
         features.texture_classes = super::texture_classes::layout(&self.textures).layers.map(|n| n > 0);
+        features.texture_transforms = used(&|m| {
+            let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+            [m.base_color, m.emissive, m.metallic_roughness, m.normal.map(|n| n.0)].iter().flatten().any(|s| s.transform != identity)
+        });
         features.lights = u32::try_from(desc.lights.len() + gltf_lights.len()).unwrap_or(u32::MAX);
         let c = &desc.camera;
         Ok(Scene {

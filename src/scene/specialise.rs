@@ -62,8 +62,12 @@ pub const SCENE_METALLIC_ROUGHNESS: &str = "SCENE_METALLIC_ROUGHNESS";
 /// read under a lane mask for every texel a shader samples).
 pub const SCENE_TEXTURE_CLASSES: [&str; 4] = ["SCENE_TEXTURES_256", "SCENE_TEXTURES_512", "SCENE_TEXTURES_1024", "SCENE_TEXTURES_2048"];
 
+/// Whether some texture has a uv transform other than the identity
+/// (shared/textures.wgsl, sample_material).
+pub const SCENE_TEXTURE_TRANSFORMS: &str = "SCENE_TEXTURE_TRANSFORMS";
+
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 16] = [
+pub const GENERIC: [(&str, bool); 17] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -80,6 +84,7 @@ pub const GENERIC: [(&str, bool); 16] = [
     (SCENE_TEXTURE_CLASSES[1], true),
     (SCENE_TEXTURE_CLASSES[2], true),
     (SCENE_TEXTURE_CLASSES[3], true),
+    (SCENE_TEXTURE_TRANSFORMS, true),
 ];
 
 /// The specialisations for a scene with `f`: only the constants that
@@ -133,6 +138,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
                 out.push(Specialisation { constant, value: false, reason: "no texture of this size class: its reads compiled out" });
             }
         }
+        if !f.texture_transforms {
+            out.push(Specialisation { constant: SCENE_TEXTURE_TRANSFORMS, value: false, reason: "no texture transform: uvs read as they are" });
+        }
     }
     out
 }
@@ -173,7 +181,11 @@ mod tests {
     fn an_empty_scene_has_every_specialisation_but_one_light() {
         // (Its size classes go with the textures: no texture is read at all.)
         let got = names(&SceneFeatures::default());
-        let want: Vec<_> = GENERIC.iter().filter(|(c, _)| *c != SCENE_ONE_LIGHT && !SCENE_TEXTURE_CLASSES.contains(c)).map(|(c, v)| (*c, !v)).collect();
+        let want: Vec<_> = GENERIC
+            .iter()
+            .filter(|(c, _)| *c != SCENE_ONE_LIGHT && !SCENE_TEXTURE_CLASSES.contains(c) && *c != SCENE_TEXTURE_TRANSFORMS)
+            .map(|(c, v)| (*c, !v))
+            .collect();
         assert_eq!(got, want);
     }
 
@@ -181,8 +193,9 @@ mod tests {
     fn a_textured_scene_keeps_the_reads_of_its_size_classes_only() {
         let mut f = SceneFeatures::all();
         f.texture_classes = [false, true, false, false];
+        f.texture_transforms = false;
         let off: Vec<_> = specialisations(&f).iter().map(|s| (s.constant, s.value)).collect();
-        assert_eq!(off, [("SCENE_TEXTURES_256", false), ("SCENE_TEXTURES_1024", false), ("SCENE_TEXTURES_2048", false)]);
+        assert_eq!(off, [("SCENE_TEXTURES_256", false), ("SCENE_TEXTURES_1024", false), ("SCENE_TEXTURES_2048", false), (SCENE_TEXTURE_TRANSFORMS, false)]);
     }
 
     #[test]
