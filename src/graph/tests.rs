@@ -918,7 +918,7 @@ fn shipped_direct_culls_the_missing_light_kind() -> Result<(), UserError> {
     let s = shipped("direct.ron", "cornell-point.ron")?;
     assert_eq!(s.culled, [culled("lights_area", CullReason::Requires(vec![Feature::AreaLights]))]);
     assert_eq!(order(&s), ["gbuffer", "albedo", "lights_point", "accumulate"]);
-    assert!(io(&s, "lights_point").ends_with(" lit@1 -> lit@2"), "{}", io(&s, "lights_point"));
+    assert!(io(&s, "lights_point").ends_with(" lit@1 gbuf_material@1 -> lit@2"), "{}", io(&s, "lights_point"));
     assert_eq!(io(&s, "accumulate"), "lit@2 accum@0 gbuf_pos@1 gbuf_normal@1 accum_geo@0 accum_comp@0 -> accum@1 accum_geo@1 accum_comp@1");
 
     let s = shipped("direct.ron", "cornell.ron")?;
