@@ -77,7 +77,7 @@ fn broken_graph_and_shader_name_file_and_line() {
     // A WGSL type error: the shader file and line.
     let good = std::fs::read_to_string(repo().join("passes/direct.ron")).unwrap();
     let graph = write(&dir.join("passes"), "g.ron", &good);
-    let shader = std::fs::read_to_string(repo().join("shaders/albedo.wgsl")).unwrap().replace("let m = gbuffer_material(", "let m: u32 = gbuffer_material(");
+    let shader = std::fs::read_to_string(repo().join("shaders/albedo.wgsl")).unwrap().replace("let m = stored_material(", "let m: u32 = stored_material(");
     let line = shader.lines().position(|l| l.contains("let m: u32")).unwrap() + 1;
     write(&dir.join("shaders"), "albedo.wgsl", &shader);
     let (code, _, err) = glint(&["graph", "check", &graph]);
