@@ -38,7 +38,12 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // Two-sided surfaces: face the normals toward the viewer; w: the
     // specular share, so accumulate knows what is view-dependent.
     // (Bent by the material's normal texture, where it has one.)
-    let surface = surface_factors(load_material(hit.material), hit.material, select(NO_OBJECT, hit.prim, found), hit.position, rd, hit.t * pixel_spread(), hit.normal);
+    // (The material is loaded only where textures can change it: an
+    // untextured scene's G-buffer reads no more than it did.)
+    var surface = SurfaceFactors(hit.normal, NO_FACTORS);
+    if SCENE_TEXTURES {
+        surface = surface_factors(load_material(hit.material), hit.material, select(NO_OBJECT, hit.prim, found), hit.position, rd, hit.t * pixel_spread(), hit.normal);
+    }
     var shaded = hit;
     shaded.normal = surface.n;
     let normal = vec4f(facing(shaded, rd).n, material_specular(hit.material));

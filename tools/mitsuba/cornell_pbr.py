@@ -13,13 +13,11 @@ roughness BRDF is the Mitsuba BSDF plugin of glint_mitsuba.py.
     glint compare ref.exr glint.exr
 """
 
-import argparse
 import os
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from glint_mitsuba import cornell_box, metal_rough, render  # noqa: E402
+from glint_mitsuba import cornell_box, main, metal_rough  # noqa: E402
 
 
 def scene(size, folder):
@@ -33,15 +31,5 @@ def scene(size, folder):
     return d
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--spp", type=int, default=1024)
-    ap.add_argument("--size", type=int, default=256)
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args()
-    with tempfile.TemporaryDirectory() as folder:
-        render(scene(a.size, folder), a.spp, a.size, a.out)
-
-
 if __name__ == "__main__":
-    main()
+    main(__doc__, scene)

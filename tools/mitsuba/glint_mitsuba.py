@@ -9,9 +9,11 @@ sampling (Mitsuba's own GGX visible-normal sampler) and pdf are Mitsuba's
 to use, with Mitsuba's path integrator, light sampling and MIS.
 """
 
+import argparse
 import glob
 import os
 import sys
+import tempfile
 
 # The newest libLLVM on the system (Dr.Jit needs 15 or newer), unless set.
 _llvm = sorted(glob.glob("/usr/lib/*/libLLVM*.so*"))
@@ -81,12 +83,16 @@ class GltfMetalRough(mi.BSDF):
         diff = mi.luminance(base * (1.0 - metallic) * (1.0 - f))
         return dr.select(spec + diff > 0.0, spec / (spec + diff), 1.0)
 
-    def eval(self, ctx, si, wo, active=True):
-        base, metallic, alpha = self.params(si)
+    @staticmethod
+    def geometry(si, wo, active):
+        """(cos_v, cos_l, whether both are above the surface, half vector)."""
         cos_v = mi.Frame3f.cos_theta(si.wi)
         cos_l = mi.Frame3f.cos_theta(wo)
-        valid = active & (cos_v > 0.0) & (cos_l > 0.0)
-        h = dr.normalize(si.wi + wo)
+        return cos_v, cos_l, active & (cos_v > 0.0) & (cos_l > 0.0), dr.normalize(si.wi + wo)
+
+    def eval(self, ctx, si, wo, active=True):
+        base, metallic, alpha = self.params(si)
+        cos_v, cos_l, valid, h = self.geometry(si, wo, active)
         a2 = alpha * alpha
         nh = mi.Frame3f.cos_theta(h)
         t = nh * nh * (a2 - 1.0) + 1.0
@@ -101,10 +107,7 @@ class GltfMetalRough(mi.BSDF):
 
     def pdf(self, ctx, si, wo, active=True):
         base, metallic, alpha = self.params(si)
-        cos_v = mi.Frame3f.cos_theta(si.wi)
-        cos_l = mi.Frame3f.cos_theta(wo)
-        valid = active & (cos_v > 0.0) & (cos_l > 0.0)
-        h = dr.normalize(si.wi + wo)
+        cos_v, cos_l, valid, h = self.geometry(si, wo, active)
         dist = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, alpha, True)
         p_spec = dist.pdf(si.wi, h) / (4.0 * dr.dot(wo, h))
         p = self.spec_probability(base, metallic, cos_v)
@@ -212,3 +215,15 @@ def render(scene_dict, spp, size, out):
         done += n
     mi.util.write_bitmap(out, total / spp)
     print(f"wrote {out} ({size}x{size}, {spp} spp)", file=sys.stderr)
+
+
+def main(doc, scene):
+    """The scripts' command line: --spp, --size and --out; scene(size,
+    folder) gives the scene dict (folder: scratch space for its meshes)."""
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    ap.add_argument("--spp", type=int, default=1024)
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--out", required=True)
+    a = ap.parse_args()
+    with tempfile.TemporaryDirectory() as folder:
+        render(scene(a.size, folder), a.spp, a.size, a.out)

@@ -17,16 +17,14 @@ glint_mitsuba.py, its emission Mitsuba's area emitter.
     glint compare ref.exr glint.exr
 """
 
-import argparse
 import json
 import math
 import os
 import struct
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from glint_mitsuba import cornell_box, render  # noqa: E402
+from glint_mitsuba import cornell_box, main  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ASSET = os.path.join(REPO, "scenes", "assets", "water-bottle", "WaterBottle.gltf")
@@ -172,15 +170,5 @@ def scene(size, folder):
     return d
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--spp", type=int, default=1024)
-    ap.add_argument("--size", type=int, default=256)
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args()
-    with tempfile.TemporaryDirectory() as folder:
-        render(scene(a.size, folder), a.spp, a.size, a.out)
-
-
 if __name__ == "__main__":
-    main()
+    main(__doc__, scene)
