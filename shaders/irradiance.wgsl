@@ -123,7 +123,10 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
     for (var depth = 0u; depth <= GATHER_SPECULAR_DEPTH; depth++) {
         let hit = trace_closest(origin, dir, 3.0e38);
         if !hit_found(hit) {
-            return out + atten * frame.background;
+            // An environment light seen straight away is the light passes'
+            // to shade, as a light is.
+            let seen = select(sky(dir), vec3f(0.0), SCENE_ENVIRONMENT && depth == 0u);
+            return out + atten * seen;
         }
         // A probe's rays gather diffusely: a wide cone (one radian).
         let m = material_at(hit.material, hit.prim, hit.position, dir, hit.t);

@@ -64,7 +64,7 @@ fn first(@builtin(global_invocation_id) id: vec3u) {
     let miss = ids.y == NO_OBJECT;
     let m = stored_material(ids, textureLoad(gbuf_material, id.xy));
     let lit_surface = !miss && !is_emissive(m);
-    textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss), 1.0), bitcast<f32>(ids.z)));
+    textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss, textureLoad(gbuf_pos, id.xy).xyz), 1.0), bitcast<f32>(ids.z)));
 }
 
 // `before` plus, on a lit surface (a hit on a non-emitter, known from the

@@ -91,7 +91,9 @@ fn trace(@builtin(global_invocation_id) id: vec3u) {
     let dir = normalize(rot * fibonacci_dir(i, count));
     var rng = rng_for(id.xy, run.iteration, SALT ^ 0x5bd1e995u, frame.seed);
     let hit = trace_closest(origin, dir, 3.0e38);
-    var radiance = frame.background;
+    // (An environment light is a light: seen from the probe, it counts
+    // only where lights do.)
+    var radiance = select(frame.background, select(vec3f(0.0), sky(dir), params.emitters != 0u), SCENE_ENVIRONMENT);
     var t = ddgi_max_distance();
     if hit_found(hit) {
         t = hit.t;

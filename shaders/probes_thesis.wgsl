@@ -48,7 +48,7 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
     for (var depth = 0u; depth < 8u; depth++) {
         let hit = trace_closest(origin, dir, 3.0e38);
         if !hit_found(hit) {
-            return atten * frame.background;
+            return atten * select(sky(dir), vec3f(0.0), SCENE_ENVIRONMENT && params.emitters == 0u);
         }
         // A probe's rays gather diffusely: a wide cone (one radian).
         let m = material_at(hit.material, hit.prim, hit.position, dir, hit.t);
@@ -77,7 +77,7 @@ fn point_lights_in_bucket(p: vec3f, texel: vec2u, s: u32) -> vec3f {
     let solid_angle = 2.0 * PROBE_PI / f32(s * s);
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
-        if l.kind == LIGHT_SPHERE {
+        if l.kind == LIGHT_SPHERE || (SCENE_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT) {
             continue;
         }
         let ls = sample_light(l, p, vec2f(0.5));

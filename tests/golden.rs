@@ -205,6 +205,8 @@ fn golden_images_of_every_pass() {
         // Textures (base colour, alpha mask, normal, metallic-roughness) and
         // glTF's metallic-roughness material.
         ("hybrid.ron", "textured.ron"),
+        // An environment light (a map with a sun), no other light.
+        ("hybrid.ron", "sky.ron"),
     ] {
         count += golden_graph(graph, scene, &mut failures);
     }
@@ -214,7 +216,7 @@ fn golden_images_of_every_pass() {
     // first hit (pathtrace_gbuffer.wgsl), which leaves every other output
     // as it was.
     let stored = pathtrace_with_gbuffer("golden-first-hit");
-    for scene in ["cornell.ron", "textured.ron", "cornell-pbr.ron"] {
+    for scene in ["cornell.ron", "textured.ron", "cornell-pbr.ron", "sky.ron"] {
         count += golden_variant(&stored, scene, "", &[], &mut failures);
     }
     // Debug views: passes that run only when their resource is the output;

@@ -2,6 +2,7 @@
 #import flat
 #import rng
 #import sampling
+#import environment
 
 struct LightSample {
     dir: vec3f,
@@ -18,6 +19,16 @@ struct LightSample {
 // sphere subtends (uniform cone sampling), or the direction to a point light.
 fn sample_light(l: Light, p: vec3f, u: vec2f) -> LightSample {
     var s = LightSample(vec3f(0.0, 1.0, 0.0), 0.0, vec3f(0.0), 0.0, false);
+    if SCENE_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT {
+        // A direction drawn from the map; shadow rays go as far as rays go.
+        let e = env_sample(l, u);
+        s.dir = e.dir;
+        s.dist = 3.0e38;
+        s.pdf = e.pdf;
+        s.weight = select(vec3f(0.0), e.radiance / e.pdf, e.pdf > 0.0);
+        s.valid = e.pdf > 0.0;
+        return s;
+    }
     if SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
         // A delta direction; shadow rays go as far as rays go.
         s.dir = l.position;
@@ -101,8 +112,9 @@ fn falloff_scale(falloff: u32, k: f32, d: f32) -> f32 {
 // What a visible sample `s` of light `l` gives surface point p facing it
 // at cos_n: L cos / pdf (or I cos / d^2), times the falloff's scale.
 fn sample_irradiance(l: Light, p: vec3f, s: LightSample, cos_n: f32, falloff: u32, falloff_k: f32) -> vec3f {
-    // (A directional light has no distance to fall off over.)
-    let scale = select(falloff_scale(falloff, falloff_k, length(l.position - p)), 1.0, SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL);
+    // (A directional or environment light has no distance to fall off over.)
+    let far = (SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL) || (SCENE_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT);
+    let scale = select(falloff_scale(falloff, falloff_k, length(l.position - p)), 1.0, far);
     return s.weight * cos_n * scale;
 }
 

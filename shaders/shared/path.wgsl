@@ -170,7 +170,24 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     let light_hit_apart = (*st).direct_apart;
     (*st).direct_apart = false;
     if !hit_found(hit) {
-        (*st).result += (*st).throughput * frame.background;
+        var seen = frame.background;
+        if SCENE_ENVIRONMENT {
+            // The environment is a light: weighted against next-event
+            // estimation after a bounce that took it; like a light, it
+            // counts nothing first without first_emission, nor where
+            // another pass takes the first hit's direct light.
+            let l = env_light();
+            var w = select(1.0, 0.0, light_hit_apart || (depth == 0u && !first_emission));
+            if w > 0.0 && (*st).bsdf_pdf > 0.0 {
+                var pdf = env_pdf(l, rd);
+                if NEE_ONE {
+                    pdf /= f32(light_count());
+                }
+                w = power_heuristic((*st).bsdf_pdf, pdf);
+            }
+            seen = env_radiance(l, rd) * w;
+        }
+        (*st).result += (*st).throughput * seen;
         return out;
     }
     let p = hit.position;

@@ -117,7 +117,7 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
     while !(*r).done && (*r).depth < params.max_depth {
         let hit = trace_closest(offset_by((*r).p, (*r).n, (*r).error), (*r).dir, 3.0e38);
         if !hit_found(hit) {
-            (*r).color += (*r).atten * frame.background;
+            (*r).color += (*r).atten * sky((*r).dir);
             (*r).done = true;
             return false;
         }

@@ -4,7 +4,8 @@
 // last frame's again in a changed scene.
 //
 // A sample y is a point on a light: light index and, for a sphere light,
-// the direction from its centre (a point light is its centre). It is kept
+// the direction from its centre (a point light is its centre; for the
+// environment light, the direction toward it). It is kept
 // as a point on the light, not a direction from the surface, so another
 // pixel, or the next frame with the light moved, can shade it again.
 // Weights are in the light's own measure (area on a sphere light, a
@@ -94,6 +95,20 @@ fn light_point(s: Surface, light: u32, oct: vec2f) -> LightPoint {
 // light_point with the light already loaded.
 fn light_point_of(s: Surface, l: Light, oct: vec2f) -> LightPoint {
     var out = LightPoint(vec3f(0.0), vec3f(0.0, 1.0, 0.0), 0.0, 0.0, 0.0, 0.0);
+    if SCENE_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT {
+        // A direction (the sample's `oct`), the same from every surface:
+        // the measure is solid angle.
+        out.dir = oct_to_normal(oct);
+        out.dist = 3.0e38;
+        out.d2 = 1.0;
+        out.cos_l = 1.0;
+        out.shadow_tmax = 3.0e38;
+        let cos_s = dot(s.n, out.dir);
+        if cos_s > 0.0 && dot(out.dir, s.ng) > 0.0 {
+            out.light = env_radiance(l, out.dir) * cos_s;
+        }
+        return out;
+    }
     if SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
         // A delta direction: unit "distance", no falloff, shadow rays as
         // far as rays go.
@@ -174,14 +189,21 @@ fn draw_candidate(s: Surface, rng: ptr<function, Rng>) -> Candidate {
     if !ls.valid {
         return c;
     }
+    let env = SCENE_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT;
     if l.kind == LIGHT_SPHERE {
         c.oct = normal_to_oct(normalize(s.o + ls.dir * ls.dist - l.position));
+    }
+    if env {
+        c.oct = normal_to_oct(ls.dir);
     }
     let lp = light_point_of(s, l, c.oct);
     c.p_hat = p_hat_of(s, lp);
     var pdf = 1.0 / f32(count);
     if l.kind == LIGHT_SPHERE {
         pdf *= ls.pdf * max(lp.cos_l, 0.0) / max(lp.d2, 1e-30);
+    }
+    if env {
+        pdf *= ls.pdf;
     }
     c.w = select(0.0, c.p_hat / pdf, pdf > 0.0 && c.p_hat > 0.0);
     return c;

@@ -70,6 +70,9 @@ const LIGHT_SPHERE: u32 = 1u;
 // toward it, `color` the irradiance on a surface facing it.
 const LIGHT_DIRECTIONAL: u32 = 2u;
 override SCENE_DIRECTIONAL_LIGHTS: bool = true;
+// The environment light (shared/environment.wgsl), always the last light.
+const LIGHT_ENVIRONMENT: u32 = 3u;
+override SCENE_ENVIRONMENT: bool = true;
 
 struct Light {
     position: vec3f,
@@ -194,10 +197,11 @@ fn load_light(i: u32) -> Light {
         spot = bitcast<vec4f>(scene_texel(scene_lights, 3u * i + 2u));
     }
     var l = Light(a.xyz, a.w, bitcast<vec3f>(b.xyz), b.w, spot);
-    // (A directional light counts as a point light in the features.)
+    // (A directional or environment light counts as a point light in the
+    // features.)
     if !SCENE_POINT_LIGHTS {
         l.kind = LIGHT_SPHERE;
-    } else if !SCENE_AREA_LIGHTS && !SCENE_DIRECTIONAL_LIGHTS {
+    } else if !SCENE_AREA_LIGHTS && !SCENE_DIRECTIONAL_LIGHTS && !SCENE_ENVIRONMENT {
         l.kind = LIGHT_POINT;
     }
     return l;
@@ -242,14 +246,6 @@ const NO_OBJECT: u32 = 0xffffffffu;
 // on: a hit, and not an emitter (those show their own emission).
 fn is_lit_surface(ids: vec4u) -> bool {
     return ids.y != NO_OBJECT && !is_emissive(load_material(ids.x));
-}
-
-// What a pixel shows before any light falls on it, its material `m`
-// (material 0 on a miss): an emitter's emission, the background on a
-// miss, else black. The albedo pass and a graph's first light pass seed
-// `lit` with it.
-fn unlit_radiance(m: Material, miss: bool) -> vec3f {
-    return select(select(vec3f(0.0), m.emission, is_emissive(m)), frame.background, miss);
 }
 
 // The diffuse share of a lit surface's albedo (the specular share is the

@@ -282,8 +282,9 @@ fn warn_if_empty(scene: &scene::Scene) {
     let lights = scene.world.query::<&crate::scene::LightIndex>().iter().count();
     let objects = scene.world.query::<&crate::scene::ObjectId>().iter().count() - lights;
     if objects == 0 {
-        eprintln!("warning: {} has no objects and {lights} lights: the image is the background", scene.path.display());
-    } else if lights == 0 && !scene.features.emissive {
+        let what = if scene.environment.is_some() { "the environment" } else { "the background" };
+        eprintln!("warning: {} has no objects and {lights} lights: the image is {what}", scene.path.display());
+    } else if lights == 0 && !scene.features.emissive && scene.environment.is_none() {
         eprintln!("warning: {} has no lights and no emissive material: the image is black but for the background", scene.path.display());
     }
 }

@@ -66,11 +66,14 @@ pub enum EngineResource {
     Images2048,
     /// The sampler the scene's textures are read with (trilinear, repeat).
     Sampler,
+    /// The environment light's map and sampling tables
+    /// (`crate::scene::environment`; one zero texel without one).
+    Environment,
 }
 
 impl EngineResource {
     /// Every engine resource.
-    pub const ALL: [EngineResource; 20] = [
+    pub const ALL: [EngineResource; 21] = [
         EngineResource::Frame,
         EngineResource::Spheres,
         EngineResource::Geometry,
@@ -91,6 +94,7 @@ impl EngineResource {
         EngineResource::Images1024,
         EngineResource::Images2048,
         EngineResource::Sampler,
+        EngineResource::Environment,
     ];
 
     /// The name a shader binds it by (`frame`, `scene_spheres`, ...).
@@ -116,6 +120,7 @@ impl EngineResource {
             EngineResource::Images1024 => "scene_images_1024",
             EngineResource::Images2048 => "scene_images_2048",
             EngineResource::Sampler => "scene_sampler",
+            EngineResource::Environment => "scene_environment",
         }
     }
 
@@ -139,7 +144,8 @@ impl EngineResource {
             | EngineResource::Uvs
             | EngineResource::MaterialTextures
             | EngineResource::Materials
-            | EngineResource::Lights => EngineKind::Texture,
+            | EngineResource::Lights
+            | EngineResource::Environment => EngineKind::Texture,
             EngineResource::Meshes => EngineKind::Storage,
             EngineResource::Images256 | EngineResource::Images512 | EngineResource::Images1024 | EngineResource::Images2048 => EngineKind::TextureArray,
             EngineResource::Sampler => EngineKind::Sampler,

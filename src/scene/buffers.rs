@@ -213,6 +213,9 @@ pub struct SceneBuffers {
     pub uvs: SceneTexture,
     /// Each material's texture slots (a scene with textures).
     pub material_textures: SceneTexture,
+    /// The environment light's map and tables (`SceneData::environment`),
+    /// written once: animation does not change it.
+    pub environment: SceneTexture,
     /// The arrays as last uploaded.
     pub data: SceneData,
     /// Bumped whenever anything visible changed.
@@ -263,6 +266,7 @@ impl SceneBuffers {
             blue_noise: SceneTexture::new(device, queue, "blue_noise", crate::blue_noise::texels()),
             uvs: SceneTexture::new(device, queue, "scene_uvs", &data.uvs),
             material_textures: SceneTexture::new(device, queue, "scene_material_textures", &data.material_textures),
+            environment: SceneTexture::new(device, queue, "scene_environment", data.environment.as_slice()),
             tiles_for: None,
             tile_grid: [0, 0],
             flat_bytes,

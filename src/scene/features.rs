@@ -73,6 +73,8 @@ pub struct SceneFeatures {
     pub directional_lights: bool,
     /// Some material is alpha-tested (alphaMode MASK).
     pub alpha_mask: bool,
+    /// The scene has an environment light (`point_lights` is set too).
+    pub environment: bool,
     /// Some object's material is glTF's metallic-roughness (src/brdf.rs).
     pub metal_rough: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
@@ -106,6 +108,7 @@ impl SceneFeatures {
             spot_lights: true,
             directional_lights: true,
             alpha_mask: true,
+            environment: true,
             metal_rough: true,
             lights: u32::MAX,
             flat: false,

@@ -134,6 +134,10 @@ pub const LIGHT_SPHERE: u32 = 1;
 /// `Light::kind` of a directional light: `position` is the unit direction
 /// toward it, `color` its irradiance.
 pub const LIGHT_DIRECTIONAL: u32 = 2;
+/// `Light::kind` of the environment light (`environment::Environment`):
+/// `position` is (width, height, rotation) of its map in
+/// `scene_environment`; always the last light.
+pub const LIGHT_ENVIRONMENT: u32 = 3;
 
 /// `struct Light` (32 bytes). Point light: `color` is intensity I (W/sr),
 /// radius 0. Sphere light: `color` is radiance L, and the light also appears
@@ -254,8 +258,13 @@ pub struct SceneData {
     pub materials: Vec<MaterialGpu>,
     /// Lights, in the order of the scene's `lights`.
     pub lights: Vec<LightGpu>,
-    /// Radiance of rays that leave the scene, linear RGB.
+    /// Radiance of rays that leave the scene, linear RGB (without an
+    /// environment light).
     pub background: [f32; 3],
+    /// The environment light's map and sampling tables
+    /// (`environment::Environment::texels`; empty without one), shared:
+    /// it never changes while the scene animates.
+    pub environment: std::sync::Arc<Vec<[u32; 4]>>,
     /// The two-level BVH (filled by `bvh::scene::SceneBvh::update`).
     pub bvh: Vec<crate::bvh::BvhNode>,
     /// The TLAS instances (filled with `bvh`).
@@ -274,8 +283,10 @@ impl SceneData {
     /// (`FLAT_LIMIT`).
     pub fn is_flat(&self) -> bool {
         // The flat path's occluder lists are built from light positions,
-        // which a directional light has not.
-        self.spheres.len() + self.triangles.len() <= FLAT_LIMIT && !self.alpha_masked() && !self.lights.iter().any(|l| l.kind == LIGHT_DIRECTIONAL)
+        // which a directional or environment light has not.
+        self.spheres.len() + self.triangles.len() <= FLAT_LIMIT
+            && !self.alpha_masked()
+            && !self.lights.iter().any(|l| l.kind == LIGHT_DIRECTIONAL || l.kind == LIGHT_ENVIRONMENT)
     }
 
     /// Whether some material is alpha-tested (alphaMode MASK): its

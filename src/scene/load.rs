@@ -12,7 +12,8 @@ use super::gltf_file::{GltfFile, GltfLoaded};
 use super::gpu_types::MaterialGpu;
 use super::locate::{Locator, Step};
 use super::obj;
-use super::schema::{LightDesc, ObjectDesc, SceneDesc};
+use super::environment::Environment;
+use super::schema::{EnvironmentDesc, LightDesc, ObjectDesc, SceneDesc};
 use super::validate::{self, Ctx};
 use super::world::{
     BasePosition, Camera, Light, LightIndex, LocalTriangle, MaterialId, MaterialTextures, MeshData, MeshShape,
@@ -121,6 +122,10 @@ impl<'a, 'l> Builder<'a, 'l> {
         let loc = self.loc;
         validate::camera(&desc.camera, loc)?;
         let background = validate::background(desc.background, loc)?;
+        let environment = match &desc.environment {
+            Some(e) => Some(self.environment(e, background)?),
+            None => None,
+        };
         for (i, (name, m)) in desc.materials.0.iter().enumerate() {
             validate::material(i, name, m, loc)?;
             if self.names.contains(&name.as_str()) {
@@ -312,7 +317,10 @@ impl<'a, 'l> Builder<'a, 'l> {
             let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
             [m.base_color, m.emissive, m.metallic_roughness, m.normal.map(|n| n.0)].iter().flatten().any(|s| s.transform != identity)
         });
-        features.lights = u32::try_from(desc.lights.len() + gltf_lights.len()).unwrap_or(u32::MAX);
+        features.lights = u32::try_from(desc.lights.len() + gltf_lights.len() + usize::from(environment.is_some())).unwrap_or(u32::MAX);
+        features.environment = environment.is_some();
+        // The passes that shade point lights shade it (one sample each).
+        features.point_lights |= environment.is_some();
         let c = &desc.camera;
         Ok(Scene {
             world: self.world,
@@ -323,6 +331,8 @@ impl<'a, 'l> Builder<'a, 'l> {
                 vfov_deg: c.vfov_deg,
             },
             background,
+            environment_texels: std::sync::Arc::new(environment.as_ref().map(Environment::texels).unwrap_or_default()),
+            environment,
             features,
             path: loc.path.to_path_buf(),
             cameras: self.gltf_cameras,
@@ -359,6 +369,17 @@ impl<'a, 'l> Builder<'a, 'l> {
             }
             Ok(_) => Ok(resolved),
         }
+    }
+
+    /// The scene's environment light, its map read and checked.
+    fn environment(&self, e: &EnvironmentDesc, background: Vec3) -> Result<Environment, UserError> {
+        let (scale, rotation) = validate::environment(e, background, self.loc)?;
+        let Some(rel) = &e.path else {
+            return Ok(Environment::constant(scale, rotation));
+        };
+        let ctx = Ctx::new(self.loc, vec![Step::Field("environment")], "environment".into());
+        let path = self.resolve(&ctx, rel, "environment map", "an .exr or .pfm image")?;
+        super::environment::load_map(&path, scale, rotation).map_err(|m| ctx.err("path", format_args!("\"{rel}\": {m}")))
     }
 
     /// Mesh `mesh`, scaled, must fit in `validate::MAX_RANGE`.

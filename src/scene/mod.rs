@@ -12,6 +12,7 @@
 //! has no material, then one emissive material per sphere light.
 
 pub mod buffers;
+pub mod environment;
 pub mod features;
 pub mod flat_uniform;
 pub mod gpu_types;

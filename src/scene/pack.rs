@@ -140,14 +140,16 @@ impl Scene {
             // Every material's slots, textured scene or not: a generic
             // pipeline (SCENE_TEXTURES on) reads them and finds none.
             material_textures: self.material_textures_gpu(),
-            lights: lights.into_iter().map(|l| l.2).collect(),
+            // The environment light last (shared/environment.wgsl finds it there).
+            lights: lights.into_iter().map(|l| l.2).chain(self.environment.as_ref().map(|e| e.light_gpu())).collect(),
             background: self.background.into(),
+            environment: self.environment_texels.clone(),
             ..Default::default()
         }
     }
 
     /// A stable hash of what the scene holds as loaded (geometry, normals,
-    /// materials, lights, background), packed at the world origin: a baked
+    /// materials, lights, environment, background), packed at the world origin: a baked
     /// volume names its scene by it.
     pub fn content_hash(&self) -> u64 {
         use crate::probes::volume_file::{fnv1a, FNV_START};
@@ -159,6 +161,7 @@ impl Scene {
         h = fnv1a(bytemuck::cast_slice(&d.meshes), h);
         h = fnv1a(bytemuck::cast_slice(&d.materials), h);
         h = fnv1a(bytemuck::cast_slice(&d.lights), h);
+        h = fnv1a(bytemuck::cast_slice(d.environment.as_slice()), h);
         fnv1a(bytemuck::cast_slice(&d.background), h)
     }
 

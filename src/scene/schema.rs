@@ -21,6 +21,8 @@ pub(crate) struct SceneDesc {
     #[serde(default)]
     pub background: V3,
     #[serde(default)]
+    pub environment: Option<EnvironmentDesc>,
+    #[serde(default)]
     pub materials: OrderedMap<MaterialDesc>,
     #[serde(default)]
     pub objects: Vec<ObjectDesc>,
@@ -44,6 +46,21 @@ fn up_y() -> V3 {
 
 fn one() -> f32 {
     1.0
+}
+
+/// An environment light: a latitude-longitude map (`path`, EXR or PFM) or
+/// one `color`, times `intensity`, turned `rotation_deg` about +y.
+#[derive(Debug, Deserialize)]
+#[serde(rename = "Environment", deny_unknown_fields)]
+pub(crate) struct EnvironmentDesc {
+    #[serde(default)]
+    pub path: Option<String>,
+    #[serde(default)]
+    pub color: Option<V3>,
+    #[serde(default = "one")]
+    pub intensity: f32,
+    #[serde(default)]
+    pub rotation_deg: f32,
 }
 
 #[derive(Debug, Deserialize)]

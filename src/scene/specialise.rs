@@ -66,8 +66,12 @@ pub const SCENE_TEXTURE_CLASSES: [&str; 4] = ["SCENE_TEXTURES_256", "SCENE_TEXTU
 /// (shared/textures.wgsl, sample_material).
 pub const SCENE_TEXTURE_TRANSFORMS: &str = "SCENE_TEXTURE_TRANSFORMS";
 
+/// Whether the scene has an environment light (shared/environment.wgsl):
+/// without one a miss sees `background` and nothing samples it.
+pub const SCENE_ENVIRONMENT: &str = "SCENE_ENVIRONMENT";
+
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 17] = [
+pub const GENERIC: [(&str, bool); 18] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -80,6 +84,7 @@ pub const GENERIC: [(&str, bool); 17] = [
     (SCENE_ALPHA_MASK, true),
     (SCENE_DIRECTIONAL_LIGHTS, true),
     (SCENE_METALLIC_ROUGHNESS, true),
+    (SCENE_ENVIRONMENT, true),
     (SCENE_TEXTURE_CLASSES[0], true),
     (SCENE_TEXTURE_CLASSES[1], true),
     (SCENE_TEXTURE_CLASSES[2], true),
@@ -132,6 +137,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     if !f.metal_rough {
         out.push(Specialisation { constant: SCENE_METALLIC_ROUGHNESS, value: false, reason: "no metallic-roughness material: its BRDF compiled out" });
     }
+    if !f.environment {
+        out.push(Specialisation { constant: SCENE_ENVIRONMENT, value: false, reason: "no environment light: its map and sampling compiled out" });
+    }
     if f.textures {
         for (constant, present) in SCENE_TEXTURE_CLASSES.into_iter().zip(f.texture_classes) {
             if !present {
@@ -165,16 +173,16 @@ mod tests {
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
         // One that may hold a surface or the camera keeps sampling from inside.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
     }
 
     #[test]

@@ -759,3 +759,37 @@ fn sphere_lights_that_may_hold_a_shading_point() {
     assert!(!parsed(&scene(SPHERE, point)).may_enclose());
     assert!(shipped("moving-lights.ron").may_enclose());
 }
+
+#[test]
+fn environments_are_checked() {
+    let env = |e: &str| scene(SPHERE, "").replace("vfov_deg: 40.0),", &format!("vfov_deg: 40.0),\n    environment: {e},"));
+    expect_err(&env("Environment(color: (1.0, 1.0, 1.0), path: \"sky.exr\")"), 3, "environment: give `path` (a map) or `color`, not both");
+    expect_err(&env("Environment(intensity: 2.0)"), 3, "environment: give `path` (an EXR or PFM latitude-longitude map) or `color`");
+    expect_err(&env("Environment(color: (1.0, -1.0, 1.0))"), 3, "environment: `color` must not be negative");
+    expect_err(&env("Environment(color: (1.0, 1.0, 1.0), intensity: -2.0)"), 3, "`intensity` must be a finite number >= 0, got -2");
+    expect_err(&env("Environment(color: (1.0, 1.0, 1.0), rotation_deg: inf)"), 3, "`rotation_deg` must be finite");
+    expect_err(&env("Environment(path: \"nowhere.exr\")"), 3, "environment map file \"nowhere.exr\" not found");
+    let both = env("Environment(color: (1.0, 1.0, 1.0))").replace("vfov_deg: 40.0),", "vfov_deg: 40.0),\n    background: (0.1, 0.1, 0.1),");
+    expect_err(&both, 4, "give `background` or `environment`, not both");
+    // A map that is not a map, and one holding a NaN.
+    let dir = TempDir::new("glint-env");
+    std::fs::write(dir.0.join("sky.png"), b"not an image").unwrap();
+    let path = dir.0.join("scene.ron");
+    expect_err_at(&env("Environment(path: \"sky.png\")"), &path, 3, "an environment map must be an .exr or .pfm file");
+    let mut pfm = b"PF\n2 1\n-1.0\n".to_vec();
+    for v in [1.0f32, 1.0, 1.0, f32::NAN, 0.0, 0.0] {
+        pfm.extend(v.to_le_bytes());
+    }
+    std::fs::write(dir.0.join("nan.pfm"), pfm).unwrap();
+    expect_err_at(&env("Environment(path: \"nan.pfm\")"), &path, 3, "\"nan.pfm\": texel (1, 0) (from the top left) is [NaN, 0, 0]: radiance must be finite and not negative");
+    // A good one: the last light, sampled; the scene counts it as a light.
+    let s = parse(&env("Environment(color: (0.5, 0.5, 0.5), intensity: 2.0, rotation_deg: 90.0)"), Path::new("/nowhere/ok.ron")).unwrap();
+    let e = s.environment.as_ref().expect("loaded");
+    assert_eq!(e.radiance[0], glam::Vec3::ONE);
+    assert!((e.rotation - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    let data = s.pack();
+    assert_eq!(data.lights.last().map(|l| l.kind), Some(crate::scene::LIGHT_ENVIRONMENT));
+    assert_eq!(data.environment.len(), 32 * 16 + 8 * 16 + 4);
+    assert!(!data.is_flat(), "the flat path's occluder lists need light positions");
+    assert!(s.features.environment && s.features.point_lights);
+}

@@ -4,7 +4,7 @@
 use glam::{DVec3, Vec3};
 
 use super::locate::{Locator, Step};
-use super::schema::{CameraDesc, LightDesc, MaterialDesc, MotionDesc, ObjectDesc, P3, V3};
+use super::schema::{CameraDesc, EnvironmentDesc, LightDesc, MaterialDesc, MotionDesc, ObjectDesc, P3, V3};
 use super::world::{Motion, SpotCone};
 use crate::error::UserError;
 
@@ -175,6 +175,29 @@ pub(crate) fn camera(c: &CameraDesc, loc: &Locator) -> Res<()> {
 
 pub(crate) fn background(v: V3, loc: &Locator) -> Res<Vec3> {
     Ctx::new(loc, vec![], "scene".into()).color("background", v)
+}
+
+/// An environment's colour (or 1 for a map) times its intensity, and its
+/// rotation in radians; `path` or `color`, not both, and not beside a
+/// `background`.
+pub(crate) fn environment(e: &EnvironmentDesc, background: Vec3, loc: &Locator) -> Res<(Vec3, f32)> {
+    let ctx = Ctx::new(loc, vec![Step::Field("environment")], "environment".into());
+    if background != Vec3::ZERO {
+        return Err(ctx.err("path", "give `background` or `environment`, not both (the environment is what rays that leave the scene see)"));
+    }
+    let color = match (&e.path, e.color) {
+        (Some(_), Some(_)) => return Err(ctx.err("color", "give `path` (a map) or `color`, not both")),
+        (None, None) => return Err(ctx.err("path", "give `path` (an EXR or PFM latitude-longitude map) or `color`")),
+        (Some(_), None) => Vec3::ONE,
+        (None, Some(c)) => ctx.color("color", c)?,
+    };
+    if !(e.intensity.is_finite() && e.intensity >= 0.0) {
+        return Err(ctx.err("intensity", format_args!("`intensity` must be a finite number >= 0, got {}", e.intensity)));
+    }
+    if !e.rotation_deg.is_finite() {
+        return Err(ctx.err("rotation_deg", format_args!("`rotation_deg` must be finite, got {}", e.rotation_deg)));
+    }
+    Ok((color * e.intensity, e.rotation_deg.to_radians()))
 }
 
 pub(crate) fn material(i: usize, name: &str, m: &MaterialDesc, loc: &Locator) -> Res<()> {

@@ -31,8 +31,13 @@ pub struct Scene {
     pub world: hecs::World,
     /// The viewpoint as loaded.
     pub camera: Camera,
-    /// Radiance of rays that leave the scene, linear RGB.
+    /// Radiance of rays that leave the scene, linear RGB (a scene with an
+    /// environment light has none).
     pub background: Vec3,
+    /// The environment light, if any.
+    pub environment: Option<super::environment::Environment>,
+    /// Its texels (`Environment::texels`), made once: every pack shares them.
+    pub(super) environment_texels: std::sync::Arc<Vec<[u32; 4]>>,
     /// What the scene holds (which passes and code it needs).
     pub features: SceneFeatures,
     /// The scene file (used in messages and to resolve mesh paths).

@@ -217,6 +217,7 @@ impl SceneGpu {
             EngineResource::Images1024 => wgpu::BindingResource::TextureView(&self.textures.views[2]),
             EngineResource::Images2048 => wgpu::BindingResource::TextureView(&self.textures.views[3]),
             EngineResource::Sampler => wgpu::BindingResource::Sampler(&self.textures.sampler),
+            EngineResource::Environment => wgpu::BindingResource::TextureView(b.environment.view()),
         }
     }
 }
