@@ -122,9 +122,12 @@ impl<'a, 'l> Builder<'a, 'l> {
         let loc = self.loc;
         validate::camera(&desc.camera, loc)?;
         let background = validate::background(desc.background, loc)?;
-        let environment = match &desc.environment {
-            Some(e) => Some(self.environment(e, background)?),
-            None => None,
+        let (environment, environment_file) = match &desc.environment {
+            Some(e) => {
+                let (env, file) = self.environment(e, background)?;
+                (Some(env), file)
+            }
+            None => (None, None),
         };
         for (i, (name, m)) in desc.materials.0.iter().enumerate() {
             validate::material(i, name, m, loc)?;
@@ -343,6 +346,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                     files.extend(g.file.files.iter().cloned());
                 }
                 files.extend(self.image_files.iter().map(|(p, _, _)| p.clone()));
+                files.extend(environment_file.clone());
                 files.dedup();
                 files
             },
@@ -371,15 +375,17 @@ impl<'a, 'l> Builder<'a, 'l> {
         }
     }
 
-    /// The scene's environment light, its map read and checked.
-    fn environment(&self, e: &EnvironmentDesc, background: Vec3) -> Result<Environment, UserError> {
+    /// The scene's environment light, its map read and checked, and the
+    /// map's file (hot reload watches it).
+    fn environment(&self, e: &EnvironmentDesc, background: Vec3) -> Result<(Environment, Option<PathBuf>), UserError> {
         let (scale, rotation) = validate::environment(e, background, self.loc)?;
         let Some(rel) = &e.path else {
-            return Ok(Environment::constant(scale, rotation));
+            return Ok((Environment::constant(scale, rotation), None));
         };
         let ctx = Ctx::new(self.loc, vec![Step::Field("environment")], "environment".into());
         let path = self.resolve(&ctx, rel, "environment map", "an .exr or .pfm image")?;
-        super::environment::load_map(&path, scale, rotation).map_err(|m| ctx.err("path", format_args!("\"{rel}\": {m}")))
+        let env = super::environment::load_map(&path, scale, rotation).map_err(|m| ctx.err("path", format_args!("\"{rel}\": {m}")))?;
+        Ok((env, Some(path)))
     }
 
     /// Mesh `mesh`, scaled, must fit in `validate::MAX_RANGE`.

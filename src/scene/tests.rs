@@ -782,6 +782,14 @@ fn environments_are_checked() {
     }
     std::fs::write(dir.0.join("nan.pfm"), pfm).unwrap();
     expect_err_at(&env("Environment(path: \"nan.pfm\")"), &path, 3, "\"nan.pfm\": texel (1, 0) (from the top left) is [NaN, 0, 0]: radiance must be finite and not negative");
+    // An EXR map (what image_io writes), watched for hot reload.
+    let mut img = crate::gpu::readback::ImageF32::new(4, 2);
+    img.data[5] = [3.0, 2.0, 1.0, 1.0];
+    crate::image_io::save(&img, &dir.0.join("sky.exr")).unwrap();
+    let s = parse(&env("Environment(path: \"sky.exr\", intensity: 2.0)"), &path).unwrap();
+    let e = s.environment.as_ref().expect("loaded");
+    assert_eq!((e.width, e.height, e.radiance[5]), (4, 2, glam::Vec3::new(6.0, 4.0, 2.0)));
+    assert!(s.mesh_files.contains(&dir.0.join("sky.exr")), "{:?}", s.mesh_files);
     // A good one: the last light, sampled; the scene counts it as a light.
     let s = parse(&env("Environment(color: (0.5, 0.5, 0.5), intensity: 2.0, rotation_deg: 90.0)"), Path::new("/nowhere/ok.ron")).unwrap();
     let e = s.environment.as_ref().expect("loaded");

@@ -45,7 +45,8 @@ pub struct Scene {
     /// The perspective cameras of the scene's glTF files, placed (what
     /// `--camera N` picks from; `use_camera`).
     pub cameras: Vec<Camera>,
-    /// The OBJ and glTF files the scene loaded (hot reload watches them).
+    /// The OBJ and glTF files, images and environment map the scene
+    /// loaded (hot reload watches them).
     pub mesh_files: Vec<PathBuf>,
     /// Local-space triangles, indexed by `MeshShape::mesh`.
     pub(super) meshes: Vec<MeshData>,
