@@ -31,10 +31,12 @@ pub struct CheckArgs {
 
 pub fn check(args: CheckArgs) -> Result<(), UserError> {
     let mut textures = None;
+    let mut environment = None;
     let features = match &args.scene {
         Some(path) => {
             let s = scene::load(path)?;
             textures = crate::scene::texture_classes::describe(s.textures());
+            environment = s.environment.as_ref().map(|e| e.describe());
             s.compile_features()
         }
         None => SceneFeatures::all(),
@@ -47,6 +49,9 @@ pub fn check(args: CheckArgs) -> Result<(), UserError> {
         out_raw!("{}", report::text(&compiled.schedule, args.size));
         if let Some(t) = textures {
             out!("scene textures: {t}");
+        }
+        if let Some(e) = environment {
+            out!("environment map: {e}");
         }
     }
     Ok(())

@@ -260,6 +260,9 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     if let Some(t) = crate::scene::texture_classes::describe(session.scene.scene.textures()) {
         out!("  scene textures: {t}");
     }
+    if let Some(e) = &session.scene.scene.environment {
+        out!("  environment map: {}", e.describe());
+    }
 }
 
 /// Where loading the scene went: its files, its BVH, its upload.

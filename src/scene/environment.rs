@@ -109,6 +109,13 @@ impl Environment {
         Environment { width: w, height: h, radiance: texels, rotation, pdf, conditional, marginal }
     }
 
+    /// Its size on the GPU, for `graph check` and `render`: the map and
+    /// its sampling tables.
+    pub fn describe(&self) -> String {
+        let texels = self.radiance.len() + self.width.div_ceil(4) as usize * self.height as usize + self.height.div_ceil(4) as usize;
+        format!("{}x{}, {:.1} MiB with its sampling tables", self.width, self.height, (texels * 16) as f64 / 1048576.0)
+    }
+
     /// The light record: `position` (width, height, rotation), colour 1.
     pub fn light_gpu(&self) -> LightGpu {
         LightGpu {
@@ -183,24 +190,34 @@ impl Environment {
 }
 
 /// Reads a latitude-longitude map (EXR or PFM, linear) for an
-/// environment: every texel's RGB finite and non-negative; `scale`
-/// multiplies it.
-pub fn load_map(path: &std::path::Path, scale: Vec3, rotation: f32) -> Result<Environment, String> {
+/// environment; `scale` multiplies it. A texel that is not finite is an
+/// error. Negative components are clamped to 0: real HDR files carry a
+/// few, small, from their compression (Blender's studio HDRIs down to 2.4%
+/// of their mean luminance); one below -5% of the mean is worth a warning,
+/// returned with the map.
+pub fn load_map(path: &std::path::Path, scale: Vec3, rotation: f32) -> Result<(Environment, Option<String>), String> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("exr" | "pfm")) {
         return Err("an environment map must be an .exr or .pfm file (linear radiance, latitude-longitude)".into());
     }
     let img = crate::image_io::load(path).map_err(|e| e.to_string())?;
     let mut texels = Vec::with_capacity(img.data.len());
+    let (mut clamped, mut lowest, mut sum) = (0usize, 0.0f32, 0.0f64);
     for (i, p) in img.data.iter().enumerate() {
         let c = Vec3::new(p[0], p[1], p[2]);
-        if !c.is_finite() || c.min_element() < 0.0 {
+        if !c.is_finite() {
             let (x, y) = (i as u32 % img.width, i as u32 / img.width);
-            return Err(format!("texel ({x}, {y}) (from the top left) is {c}: radiance must be finite and not negative"));
+            return Err(format!("texel ({x}, {y}) (from the top left) is {c}: radiance must be finite"));
         }
-        texels.push(c * scale);
+        clamped += usize::from(c.min_element() < 0.0);
+        lowest = lowest.min(c.min_element());
+        sum += f64::from(luminance(c.max(Vec3::ZERO)));
+        texels.push(c.max(Vec3::ZERO) * scale);
     }
-    Ok(Environment::from_texels(img.width, img.height, texels, rotation))
+    let mean = sum / texels.len().max(1) as f64;
+    let note = (f64::from(lowest) < -0.05 * mean)
+        .then(|| format!("{clamped} texel(s) with negative components (down to {lowest}, the map's mean luminance is {mean:.4}) clamped to 0"));
+    Ok((Environment::from_texels(img.width, img.height, texels, rotation), note))
 }
 
 /// The CDF at the end of each cell of `weights` (summing to `sum`), the

@@ -384,7 +384,10 @@ impl<'a, 'l> Builder<'a, 'l> {
         };
         let ctx = Ctx::new(self.loc, vec![Step::Field("environment")], "environment".into());
         let path = self.resolve(&ctx, rel, "environment map", "an .exr or .pfm image")?;
-        let env = super::environment::load_map(&path, scale, rotation).map_err(|m| ctx.err("path", format_args!("\"{rel}\": {m}")))?;
+        let (env, note) = super::environment::load_map(&path, scale, rotation).map_err(|m| ctx.err("path", format_args!("\"{rel}\": {m}")))?;
+        if let Some(note) = note {
+            eprintln!("glint: {}: {note}", path.display());
+        }
         Ok((env, Some(path)))
     }
 

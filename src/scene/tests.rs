@@ -781,14 +781,16 @@ fn environments_are_checked() {
         pfm.extend(v.to_le_bytes());
     }
     std::fs::write(dir.0.join("nan.pfm"), pfm).unwrap();
-    expect_err_at(&env("Environment(path: \"nan.pfm\")"), &path, 3, "\"nan.pfm\": texel (1, 0) (from the top left) is [NaN, 0, 0]: radiance must be finite and not negative");
+    expect_err_at(&env("Environment(path: \"nan.pfm\")"), &path, 3, "\"nan.pfm\": texel (1, 0) (from the top left) is [NaN, 0, 0]: radiance must be finite");
     // An EXR map (what image_io writes), watched for hot reload.
     let mut img = crate::gpu::readback::ImageF32::new(4, 2);
     img.data[5] = [3.0, 2.0, 1.0, 1.0];
+    img.data[6] = [-1e-4, 1.0, 1.0, 1.0];
     crate::image_io::save(&img, &dir.0.join("sky.exr")).unwrap();
     let s = parse(&env("Environment(path: \"sky.exr\", intensity: 2.0)"), &path).unwrap();
     let e = s.environment.as_ref().expect("loaded");
     assert_eq!((e.width, e.height, e.radiance[5]), (4, 2, glam::Vec3::new(6.0, 4.0, 2.0)));
+    assert_eq!(e.radiance[6], glam::Vec3::new(0.0, 2.0, 2.0), "a small negative component is clamped");
     assert!(s.mesh_files.contains(&dir.0.join("sky.exr")), "{:?}", s.mesh_files);
     // A good one: the last light, sampled; the scene counts it as a light.
     let s = parse(&env("Environment(color: (0.5, 0.5, 0.5), intensity: 2.0, rotation_deg: 90.0)"), Path::new("/nowhere/ok.ron")).unwrap();

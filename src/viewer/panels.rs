@@ -265,6 +265,9 @@ fn scene(ui: &mut Ui, session: &Session, input: &PanelInput, state: &mut PanelSt
         if let Some(t) = crate::scene::texture_classes::describe(session.scene.scene.textures()) {
             ui.add(egui::Label::new(t).wrap());
         }
+        if let Some(e) = &session.scene.scene.environment {
+            ui.add(egui::Label::new(format!("environment map: {}", e.describe())).wrap());
+        }
         let name = |p: &std::path::Path| p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         egui::ComboBox::from_id_salt("scene").selected_text(name(input.scene)).show_ui(ui, |ui| {
             // Only while the list is open: it reads the folder.

@@ -95,15 +95,16 @@ def apply(m, p, w):
     return [sum(m[r][c] * (p[c] if c < 3 else w) for c in range(4)) for r in range(3)]
 
 
-def bottle_ply(path):
-    """The asset's meshes in the scene's world space, as one binary PLY with
-    normals and uvs; returns the material of its (single) primitive."""
+def bottle_ply(path, translate=TRANSLATE, scale=SCALE, rotate_deg=ROTATE_DEG):
+    """The asset's meshes in the scene's world space (placed as a RON
+    `Gltf(translate, scale, rotate_deg)` places them), as one binary PLY
+    with normals and uvs; returns the material of its (single) primitive."""
     with open(ASSET) as f:
         gltf = json.load(f)
     folder = os.path.dirname(ASSET)
     with open(os.path.join(folder, gltf["buffers"][0]["uri"]), "rb") as f:
         blob = f.read()
-    placement = mat_mul(mat_mul(translation(TRANSLATE), euler_xyz(ROTATE_DEG)), scaling([SCALE] * 3))
+    placement = mat_mul(mat_mul(translation(translate), euler_xyz(rotate_deg)), scaling([scale] * 3))
     vertices, faces, materials = [], [], set()
 
     def visit(i, parent):
@@ -148,9 +149,10 @@ def bitmap(gltf, folder, texture, raw):
     return {"type": "bitmap", "filename": os.path.join(folder, image["uri"]), "raw": raw, "filter_type": "bilinear", "wrap_mode": "repeat"}
 
 
-def scene(size, folder):
-    d = cornell_box(size, folder, light_center=LIGHT_CENTER)
-    gltf, mat, asset_folder = bottle_ply(os.path.join(folder, "bottle.ply"))
+def bottle(folder, **placement):
+    """The bottle as a Mitsuba shape: its PLY, its textured
+    metallic-roughness BSDF under its normal map, its emission."""
+    gltf, mat, asset_folder = bottle_ply(os.path.join(folder, "bottle.ply"), **placement)
     pbr = mat.get("pbrMetallicRoughness", {})
     bsdf = {
         "type": "gltf_metal_rough",
@@ -161,12 +163,17 @@ def scene(size, folder):
     }
     bsdf = {"type": "normalmap", "normalmap": bitmap(gltf, asset_folder, mat["normalTexture"], True), "bsdf": bsdf}
     # glint shades both sides of every surface.
-    d["bottle"] = {
+    return {
         "type": "ply",
         "filename": os.path.join(folder, "bottle.ply"),
         "bsdf": {"type": "twosided", "material": bsdf},
         "emitter": {"type": "area", "radiance": bitmap(gltf, asset_folder, mat["emissiveTexture"], False)},
     }
+
+
+def scene(size, folder):
+    d = cornell_box(size, folder, light_center=LIGHT_CENTER)
+    d["bottle"] = bottle(folder)
     return d
 
 
