@@ -110,3 +110,37 @@ fn a_normal_texture_bends_the_shading_normal_its_way() {
         }
     }
 }
+
+#[test]
+fn a_single_sided_material_is_seen_from_its_front_only() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("gltf-single-sided");
+    // An emitter, so either face shows whatever lights it; the sun comes
+    // from the side, along the quad.
+    let sun = Vec3::new(1.0, 0.0, 0.0);
+    for (name, material, from_behind) in [
+        ("single", r#"{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}, "emissiveFactor": [1, 0.5, 0.25]}"#, false),
+        ("double", r#"{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}, "emissiveFactor": [1, 0.5, 0.25], "doubleSided": true}"#, true),
+    ] {
+        let front = quad_scene(&dir, name, material, &[[255, 255, 255, 255]], sun);
+        let text = std::fs::read_to_string(&front).expect("read");
+        let behind = dir.join(format!("{name}-behind.ron"));
+        std::fs::write(&behind, text.replace("position: (0.0, 0.0, 2.0)", "position: (0.0, 0.0, -2.0)")).expect("write");
+        for graph in ["passes/pathtrace.ron", "passes/hybrid.ron"] {
+            let seen = |scene: &std::path::Path| {
+                let img = render(gpu().expect("gpu"), glint::scene::load(scene).unwrap_or_else(|e| panic!("{e}")), &repo().join(graph), (32, 32), 2, None);
+                centre_32(&img)
+            };
+            let (f, b) = (seen(&front), seen(&behind));
+            eprintln!("{name}-sided, {graph}: from the front {f}, from behind {b}");
+            assert!((f - Vec3::new(1.0, 0.5, 0.25)).abs().max_element() < 0.02, "{name}-sided, {graph}: the front shows {f}");
+            if from_behind {
+                assert!((b - f).abs().max_element() < 0.02, "{name}-sided, {graph}: the back shows {b}, the front {f}");
+            } else {
+                assert!(b.max_element() < 1e-6, "{name}-sided, {graph}: rays from behind met the quad: {b}");
+            }
+        }
+    }
+}

@@ -124,7 +124,7 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
         loop_trips += 1u;
         let tri = load_triangle(i);
         let h = hit_triangle(r, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, next_up((*best).t));
-        if h.x > 0.0 && h.x < tmax && closer(h.x, i, *best) && alpha_passes(bitcast<u32>(tri.p0.w), i, h.yz) {
+        if h.x > 0.0 && h.x < tmax && closer(h.x, i, *best) && alpha_passes(bitcast<u32>(tri.p0.w), i, h.yz) && face_passes(bitcast<u32>(tri.p0.w), r.d, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz) {
             *best = Closest(h.x, i, h.yz);
             if any_hit {
                 return true;
@@ -290,7 +290,7 @@ fn traverse_blas(r: Ray, root_ref: u32, tmax: f32, any_hit: bool, best: ptr<func
         stack[sp] = select(ref_b, ref_a, swap);
         if test_triangle {
             let h = hit_triangle(r, t0.xyz, t1.xyz, t2.xyz, next_up((*best).t));
-            if h.x > 0.0 && h.x < tmax && closer(h.x, tri, *best) && alpha_passes(bitcast<u32>(t0.w), tri, h.yz) {
+            if h.x > 0.0 && h.x < tmax && closer(h.x, tri, *best) && alpha_passes(bitcast<u32>(t0.w), tri, h.yz) && face_passes(bitcast<u32>(t0.w), r.d, t0.xyz, t1.xyz, t2.xyz) {
                 *best = Closest(h.x, tri, h.yz);
                 if any_hit {
                     return true;

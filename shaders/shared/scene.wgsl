@@ -224,6 +224,21 @@ fn load_material(i: u32) -> Material {
     return m;
 }
 
+// Some material is single-sided (glTF's doubleSided false; its flags,
+// the third texel's z, bit 0): traversal then takes one of its triangles
+// only where the ray meets the front (counter-clockwise) face.
+override SCENE_SINGLE_SIDED: bool = true;
+const MATERIAL_SINGLE_SIDED: u32 = 1u;
+
+// Whether a ray along rd may hit triangle (p0, p1, p2) of `material`.
+fn face_passes(material: u32, rd: vec3f, p0: vec3f, p1: vec3f, p2: vec3f) -> bool {
+    if !SCENE_SINGLE_SIDED {
+        return true;
+    }
+    let single = (scene_texel(scene_materials, 3u * material + 2u).z & MATERIAL_SINGLE_SIDED) != 0u;
+    return !single || dot(cross(p1 - p0, p2 - p0), rd) < 0.0;
+}
+
 // Material i's specular share alone, for the per-pixel passes that need
 // no more of it: one load (storage loads cost per component on CPU
 // drivers), none where no surface of the scene reflects.

@@ -75,6 +75,9 @@ pub struct SceneFeatures {
     pub alpha_mask: bool,
     /// The scene has an environment light (`point_lights` is set too).
     pub environment: bool,
+    /// Some triangle's material is single-sided (glTF's `doubleSided:
+    /// false`): traversal tests the side a ray meets it from.
+    pub single_sided: bool,
     /// Some object's material is glTF's metallic-roughness (src/brdf.rs).
     pub metal_rough: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
@@ -109,6 +112,7 @@ impl SceneFeatures {
             directional_lights: true,
             alpha_mask: true,
             environment: true,
+            single_sided: true,
             metal_rough: true,
             lights: u32::MAX,
             flat: false,

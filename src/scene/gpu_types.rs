@@ -105,25 +105,37 @@ pub struct MaterialGpu {
     pub metallic: f32,
     /// `MATERIAL_THESIS` or `MATERIAL_METALLIC_ROUGHNESS`.
     pub model: u32,
+    /// `MATERIAL_SINGLE_SIDED` or 0.
+    pub flags: u32,
     /// Padding to the third texel's end.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
+
+/// `MaterialGpu::flags`: glTF's `doubleSided: false`. Rays meet only the
+/// front (counter-clockwise) face of its triangles; from behind they pass
+/// through (shaders/shared/scene.wgsl, `face_passes`).
+pub const MATERIAL_SINGLE_SIDED: u32 = 1;
 
 impl MaterialGpu {
     /// A thesis material.
     pub const fn thesis(albedo: [f32; 3], specular: f32, emission: [f32; 3], roughness: f32) -> MaterialGpu {
-        MaterialGpu { albedo, specular, emission, roughness, metallic: 0.0, model: MATERIAL_THESIS, _pad: [0; 2] }
+        MaterialGpu { albedo, specular, emission, roughness, metallic: 0.0, model: MATERIAL_THESIS, flags: 0, _pad: 0 }
     }
 
     /// A metallic-roughness material.
     pub const fn metal_rough(base: [f32; 3], metallic: f32, roughness: f32, emission: [f32; 3]) -> MaterialGpu {
         let specular = metallic + crate::brdf::DIELECTRIC_F0 * (1.0 - metallic);
-        MaterialGpu { albedo: base, specular, emission, roughness, metallic, model: MATERIAL_METALLIC_ROUGHNESS, _pad: [0; 2] }
+        MaterialGpu { albedo: base, specular, emission, roughness, metallic, model: MATERIAL_METALLIC_ROUGHNESS, flags: 0, _pad: 0 }
     }
 
     /// Whether it is a metallic-roughness material.
     pub fn is_metal_rough(&self) -> bool {
         self.model == MATERIAL_METALLIC_ROUGHNESS
+    }
+
+    /// Whether rays meet only its triangles' front faces.
+    pub fn is_single_sided(&self) -> bool {
+        self.flags & MATERIAL_SINGLE_SIDED != 0
     }
 }
 
@@ -284,8 +296,10 @@ impl SceneData {
     pub fn is_flat(&self) -> bool {
         // The flat path's occluder lists are built from light positions,
         // which a directional or environment light has not.
+        // (Nor do their loops test a face's side.)
         self.spheres.len() + self.triangles.len() <= FLAT_LIMIT
             && !self.alpha_masked()
+            && !self.materials.iter().any(MaterialGpu::is_single_sided)
             && !self.lights.iter().any(|l| l.kind == LIGHT_DIRECTIONAL || l.kind == LIGHT_ENVIRONMENT)
     }
 

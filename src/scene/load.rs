@@ -315,6 +315,7 @@ impl<'a, 'l> Builder<'a, 'l> {
         };
         features.textures = used(&|m| m.base_color.is_some() || m.emissive.is_some() || m.metallic_roughness.is_some() || m.normal.is_some());
         features.alpha_mask = used(&|m| m.alpha_mask.is_some());
+        features.single_sided = self.meshes.iter().flat_map(|m| &m.triangles).any(|t| self.materials.get(t.material as usize).is_some_and(MaterialGpu::is_single_sided));
         features.texture_classes = super::texture_classes::layout(&self.textures).layers.map(|n| n > 0);
         features.texture_transforms = used(&|m| {
             let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];

@@ -70,8 +70,12 @@ pub const SCENE_TEXTURE_TRANSFORMS: &str = "SCENE_TEXTURE_TRANSFORMS";
 /// without one a miss sees `background` and nothing samples it.
 pub const SCENE_ENVIRONMENT: &str = "SCENE_ENVIRONMENT";
 
+/// Whether some material is single-sided (shared/scene.wgsl,
+/// `face_passes`): without one, traversal never asks which side a ray meets.
+pub const SCENE_SINGLE_SIDED: &str = "SCENE_SINGLE_SIDED";
+
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 18] = [
+pub const GENERIC: [(&str, bool); 19] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -85,6 +89,7 @@ pub const GENERIC: [(&str, bool); 18] = [
     (SCENE_DIRECTIONAL_LIGHTS, true),
     (SCENE_METALLIC_ROUGHNESS, true),
     (SCENE_ENVIRONMENT, true),
+    (SCENE_SINGLE_SIDED, true),
     (SCENE_TEXTURE_CLASSES[0], true),
     (SCENE_TEXTURE_CLASSES[1], true),
     (SCENE_TEXTURE_CLASSES[2], true),
@@ -140,6 +145,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     if !f.environment {
         out.push(Specialisation { constant: SCENE_ENVIRONMENT, value: false, reason: "no environment light: its map and sampling compiled out" });
     }
+    if !f.single_sided {
+        out.push(Specialisation { constant: SCENE_SINGLE_SIDED, value: false, reason: "no single-sided material: traversal tests no face's side" });
+    }
     if f.textures {
         for (constant, present) in SCENE_TEXTURE_CLASSES.into_iter().zip(f.texture_classes) {
             if !present {
@@ -173,16 +181,16 @@ mod tests {
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // One that may hold a surface or the camera keeps sampling from inside.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
     }
 
     #[test]

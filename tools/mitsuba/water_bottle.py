@@ -162,7 +162,8 @@ def bottle(folder, **placement):
         "roughness": pbr.get("roughnessFactor", 1.0),
     }
     bsdf = {"type": "normalmap", "normalmap": bitmap(gltf, asset_folder, mat["normalTexture"], True), "bsdf": bsdf}
-    # glint shades both sides of every surface.
+    # (Its material is single-sided, but the mesh is closed: no ray meets
+    # a back face, so both sides shaded or not give the same image.)
     return {
         "type": "ply",
         "filename": os.path.join(folder, "bottle.ply"),

@@ -4,11 +4,11 @@
 //! metallic-roughness and normal textures are read (textures.rs); occlusion
 //! textures are not (rays find occlusion), which the loader says once.
 
-use super::super::gpu_types::MaterialGpu;
+use super::super::gpu_types::{MaterialGpu, MATERIAL_SINGLE_SIDED};
 
 /// The glTF default material (no `material` on a primitive): white,
-/// metallic 1, roughness 1, as the spec's defaults give.
-pub(crate) const DEFAULT: MaterialGpu = MaterialGpu::metal_rough([1.0; 3], 1.0, 1.0, [0.0; 3]);
+/// metallic 1, roughness 1, single-sided, as the spec's defaults give.
+pub(crate) const DEFAULT: MaterialGpu = MaterialGpu { flags: MATERIAL_SINGLE_SIDED, ..MaterialGpu::metal_rough([1.0; 3], 1.0, 1.0, [0.0; 3]) };
 
 /// Material `m` in glint's terms; values outside glTF's ranges are errors.
 pub(crate) fn convert(m: &gltf::Material) -> Result<MaterialGpu, String> {
@@ -36,18 +36,18 @@ pub(crate) fn convert(m: &gltf::Material) -> Result<MaterialGpu, String> {
     for (k, e) in emission.iter_mut().enumerate() {
         *e = unit("emissiveFactor", m.emissive_factor()[k])? * strength;
     }
-    Ok(MaterialGpu::metal_rough(albedo, metallic, roughness, emission))
+    let flags = if m.double_sided() { 0 } else { MATERIAL_SINGLE_SIDED };
+    Ok(MaterialGpu { flags, ..MaterialGpu::metal_rough(albedo, metallic, roughness, emission) })
 }
 
 /// What the conversion leaves out for the materials and primitives of
 /// `doc`, one line each (empty when nothing is left out).
 pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
     use gltf::Semantic;
-    let (mut occlusion, mut blend, mut single_sided, mut second_uvs) = (0, 0, 0, 0);
+    let (mut occlusion, mut blend, mut second_uvs) = (0, 0, 0);
     for m in doc.materials() {
         occlusion += usize::from(m.occlusion_texture().is_some());
         blend += usize::from(m.alpha_mode() == gltf::material::AlphaMode::Blend);
-        single_sided += usize::from(!m.double_sided());
         let pbr = m.pbr_metallic_roughness();
         let sets = [
             pbr.base_color_texture().map(|t| t.tex_coord()),
@@ -71,7 +71,6 @@ pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
     };
     say(occlusion, "material(s) have occlusion textures, which glint does not read (rays find the occlusion themselves)");
     say(blend, "material(s) use alphaMode BLEND, which glint renders as MASK at alpha 0.5");
-    say(single_sided, "material(s) are single-sided (doubleSided false); glint shades both sides of every surface");
     say(second_uvs, "material(s) read a texture through TEXCOORD_1 or later, which glint reads through TEXCOORD_0");
     say(colours, "primitive(s) have vertex colours (COLOR_0), which glint does not apply");
     say(tangents, "normal-mapped primitive(s) carry TANGENT, which glint does not read: it takes each triangle's tangent frame from its uvs");

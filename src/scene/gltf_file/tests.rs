@@ -157,7 +157,9 @@ fn strips_normals_lights_cameras_and_materials_convert() {
     let f = read(&write_json(&scratch("strip"), &v)).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(f.meshes[0].len(), 2, "a strip of four vertices is two triangles");
     assert!(f.meshes[0].iter().all(|t| t.n == [Vec3::Z; 3]), "both face +z: the strip's second triangle turns back");
-    assert_eq!(f.materials, vec![MaterialGpu::metal_rough([0.5, 0.25, 1.0], 0.25, 0.75, [4.0, 2.0, 0.0])]);
+    // (Single-sided: glTF's default.)
+    let single = MaterialGpu { flags: crate::scene::MATERIAL_SINGLE_SIDED, ..MaterialGpu::metal_rough([0.5, 0.25, 1.0], 0.25, 0.75, [4.0, 2.0, 0.0]) };
+    assert_eq!(f.materials, vec![single]);
     assert_eq!(f.lights[0], PointLight { position: DVec3::new(0.0, 3.0, 0.0), intensity: Vec3::new(1.0, 0.5, 0.25), spot: None, directional: None }, "683 cd is 1 W/sr");
     // The spot light: glTF's default cone (0 to pi/4) down the node's -z.
     let spot = f.lights[1].spot.expect("a cone");
@@ -256,8 +258,7 @@ fn textures_uvs_and_transforms_are_read() {
 fn what_glint_leaves_out_is_said_once_each() {
     let bytes = buffer(&TRIANGLE, &[0, 1, 2]);
     let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
-    // Vertex colours and a morph target read the positions' accessor; the
-    // material is single-sided (glTF's default).
+    // Vertex colours and a morph target read the positions' accessor.
     let prim = &mut v["meshes"][0]["primitives"][0];
     prim["attributes"]["COLOR_0"] = Value::from(0);
     prim["targets"] = gltf::json::deserialize::from_str(r#"[{"POSITION": 0}]"#).expect("json");
@@ -266,8 +267,11 @@ fn what_glint_leaves_out_is_said_once_each() {
     let path = write_json(&scratch("left-out"), &v);
     let f = read(&path).unwrap_or_else(|e| panic!("{e}"));
     let warnings = f.warnings.join("\n");
-    for said in ["1 primitive(s) have vertex colours (COLOR_0)", "1 primitive(s) have morph targets", "1 material(s) are single-sided"] {
+    for said in ["1 primitive(s) have vertex colours (COLOR_0)", "1 primitive(s) have morph targets"] {
         assert!(warnings.contains(said), "{said:?} not in {warnings}");
     }
+    // A single-sided material is rendered as one now, and not said.
+    assert!(!warnings.contains("single-sided"), "{warnings}");
+    assert!(f.materials[0].is_single_sided());
     assert!(!warnings.contains("TEXCOORD_1") && !warnings.contains("TANGENT"), "{warnings}");
 }
