@@ -46,22 +46,21 @@ fn env_dir(l: Light, uv: vec2f) -> vec3f {
     return vec3f(c * x + s * z, cos(theta), -s * x + c * z);
 }
 
-// The texel `dir` falls in: radiance and pdf in map space.
-fn env_texel(l: Light, dir: vec3f) -> vec4f {
+// The pdf in map space of the texel at (u, v).
+fn env_map_pdf(l: Light, uv: vec2f) -> f32 {
     let size = env_size(l);
-    let uv = env_uv(l, dir);
     let x = min(u32(uv.x * f32(size.x)), size.x - 1u);
     let y = min(u32(uv.y * f32(size.y)), size.y - 1u);
-    return bitcast<vec4f>(scene_texel(scene_environment, y * size.x + x));
+    return bitcast<f32>(scene_texel(scene_environment, y * size.x + x).w);
 }
 
-// The radiance seen looking along `dir`: the map filtered bilinearly
-// between texel centres, wrapping across u and clamped in v (Mitsuba's
-// `envmap` filters so; the sampling pdf stays per texel, which keeps every
-// estimate unbiased where it is not zero).
-fn env_radiance(l: Light, dir: vec3f) -> vec3f {
+// The radiance at (u, v) of the map: filtered bilinearly between texel
+// centres, wrapping across u and clamped in v (Mitsuba's `envmap` filters
+// so; the sampling pdf stays per texel, which keeps every estimate
+// unbiased where it is not zero).
+fn env_radiance_at(l: Light, uv: vec2f) -> vec3f {
     let size = env_size(l);
-    let p = env_uv(l, dir) * vec2f(size) - 0.5;
+    let p = uv * vec2f(size) - 0.5;
     let f = floor(p);
     let t = p - f;
     let x0 = u32(i32(f.x) + i32(size.x)) % size.x;
@@ -75,13 +74,19 @@ fn env_radiance(l: Light, dir: vec3f) -> vec3f {
     return mix(mix(a, b, t.x), mix(c, d, t.x), t.y);
 }
 
-// The solid-angle pdf env_sample draws `dir` with.
-fn env_pdf(l: Light, dir: vec3f) -> f32 {
+// The radiance seen looking along `dir`.
+fn env_radiance(l: Light, dir: vec3f) -> vec3f {
+    return env_radiance_at(l, env_uv(l, dir));
+}
+
+// The solid-angle pdf env_sample draws `dir` with, given its map
+// coordinates `uv` (env_uv: computed once where the radiance is read too).
+fn env_pdf_at(l: Light, uv: vec2f, dir: vec3f) -> f32 {
     let sin_t = sqrt(1.0 - min(dir.y * dir.y, 1.0));
     if !(sin_t > 0.0) {
         return 0.0;
     }
-    return env_texel(l, dir).w / (2.0 * PI * PI * sin_t);
+    return env_map_pdf(l, uv) / (2.0 * PI * PI * sin_t);
 }
 
 // Value i of the tables (four to a texel).
@@ -128,11 +133,10 @@ fn env_sample(l: Light, u: vec2f) -> EnvSample {
     let row = env_search(4u * (tables + size.y * row_texels), size.y, u.y);
     let col = env_search(4u * (tables + row.i * row_texels), size.x, u.x);
     let uv = vec2f((f32(col.i) + col.t) / f32(size.x), (f32(row.i) + row.t) / f32(size.y));
-    let texel = bitcast<vec4f>(scene_texel(scene_environment, row.i * size.x + col.i));
+    let map_pdf = bitcast<f32>(scene_texel(scene_environment, row.i * size.x + col.i).w);
     let sin_t = sin(PI * uv.y);
-    let pdf = select(0.0, texel.w / (2.0 * PI * PI * sin_t), sin_t > 0.0);
-    let dir = env_dir(l, uv);
-    return EnvSample(dir, pdf, env_radiance(l, dir));
+    let pdf = select(0.0, map_pdf / (2.0 * PI * PI * sin_t), sin_t > 0.0);
+    return EnvSample(env_dir(l, uv), pdf, env_radiance_at(l, uv));
 }
 
 // What a ray that leaves the scene along `dir` sees.

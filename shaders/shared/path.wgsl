@@ -177,15 +177,16 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             // counts nothing first without first_emission, nor where
             // another pass takes the first hit's direct light.
             let l = env_light();
+            let uv = env_uv(l, rd);
             var w = select(1.0, 0.0, light_hit_apart || (depth == 0u && !first_emission));
             if w > 0.0 && (*st).bsdf_pdf > 0.0 {
-                var pdf = env_pdf(l, rd);
+                var pdf = env_pdf_at(l, uv, rd);
                 if NEE_ONE {
                     pdf /= f32(light_count());
                 }
                 w = power_heuristic((*st).bsdf_pdf, pdf);
             }
-            seen = env_radiance(l, rd) * w;
+            seen = env_radiance_at(l, uv) * w;
         }
         (*st).result += (*st).throughput * seen;
         return out;

@@ -95,31 +95,25 @@ fn light_point(s: Surface, light: u32, oct: vec2f) -> LightPoint {
 // light_point with the light already loaded.
 fn light_point_of(s: Surface, l: Light, oct: vec2f) -> LightPoint {
     var out = LightPoint(vec3f(0.0), vec3f(0.0, 1.0, 0.0), 0.0, 0.0, 0.0, 0.0);
-    if SCENE_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT {
-        // A direction (the sample's `oct`), the same from every surface:
-        // the measure is solid angle.
-        out.dir = oct_to_normal(oct);
-        out.dist = 3.0e38;
-        out.d2 = 1.0;
-        out.cos_l = 1.0;
-        out.shadow_tmax = 3.0e38;
-        let cos_s = dot(s.n, out.dir);
-        if cos_s > 0.0 && dot(out.dir, s.ng) > 0.0 {
-            out.light = env_radiance(l, out.dir) * cos_s;
-        }
-        return out;
-    }
-    if SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL {
-        // A delta direction: unit "distance", no falloff, shadow rays as
-        // far as rays go.
+    let env = SCENE_ENVIRONMENT && l.kind == LIGHT_ENVIRONMENT;
+    if env || (SCENE_DIRECTIONAL_LIGHTS && l.kind == LIGHT_DIRECTIONAL) {
+        // Infinitely far: a direction the same from every surface (the
+        // environment's the sample's `oct`, measured in solid angle; a
+        // directional light's its own, a delta), unit "distance", no
+        // falloff, shadow rays as far as rays go.
         out.dir = l.position;
+        var radiance = l.color;
+        if env {
+            out.dir = oct_to_normal(oct);
+            radiance = env_radiance(l, out.dir);
+        }
         out.dist = 3.0e38;
         out.d2 = 1.0;
         out.cos_l = 1.0;
         out.shadow_tmax = 3.0e38;
         let cos_s = dot(s.n, out.dir);
         if cos_s > 0.0 && dot(out.dir, s.ng) > 0.0 {
-            out.light = l.color * cos_s;
+            out.light = radiance * cos_s;
         }
         return out;
     }

@@ -20,9 +20,9 @@ use super::gpu_types::{LightGpu, LIGHT_ENVIRONMENT};
 use crate::brdf::luminance;
 use crate::sampling::PI;
 
-/// Maps wider than this are halved (box filter) until they fit: a sampling
-/// table per texel costs memory and search steps, and lighting needs no
-/// finer.
+/// Maps wider or taller than this are halved (box filter) until they fit:
+/// a sampling table per texel costs memory and search steps, lighting needs
+/// no finer, and the map and its tables then always fit their texture.
 pub const MAX_WIDTH: u32 = 2048;
 
 /// The size of the map a constant colour becomes: fine enough that the
@@ -59,10 +59,10 @@ impl Environment {
 
     /// A `width x height` map (rows from the top), already scaled by the
     /// intensity; texels must be finite and non-negative (the loader
-    /// checks). Wider than `MAX_WIDTH`: halved until it fits.
+    /// checks). Wider or taller than `MAX_WIDTH`: halved until it fits.
     pub fn from_texels(width: u32, height: u32, radiance: Vec<Vec3>, rotation: f32) -> Environment {
         let (mut w, mut h, mut texels) = (width.max(1), height.max(1), radiance);
-        while w > MAX_WIDTH {
+        while w > MAX_WIDTH || h > MAX_WIDTH {
             (w, h, texels) = halve(w, h, &texels);
         }
         // Each texel weighs what the bilinear radiance averages over it:
@@ -112,8 +112,13 @@ impl Environment {
     /// Its size on the GPU, for `graph check` and `render`: the map and
     /// its sampling tables.
     pub fn describe(&self) -> String {
-        let texels = self.radiance.len() + self.width.div_ceil(4) as usize * self.height as usize + self.height.div_ceil(4) as usize;
-        format!("{}x{}, {:.1} MiB with its sampling tables", self.width, self.height, (texels * 16) as f64 / 1048576.0)
+        format!("{}x{}, {:.1} MiB with its sampling tables", self.width, self.height, (self.texel_count() * 16) as f64 / 1048576.0)
+    }
+
+    /// How many texels `texels` writes: the map, each row's CDF in whole
+    /// texels, the marginal CDF.
+    fn texel_count(&self) -> usize {
+        self.radiance.len() + self.width.div_ceil(4) as usize * self.height as usize + self.height.div_ceil(4) as usize
     }
 
     /// The light record: `position` (width, height, rotation), colour 1.
@@ -132,8 +137,7 @@ impl Environment {
     /// texel, rows padded to whole texels; then the marginal CDF, four a
     /// texel.
     pub fn texels(&self) -> Vec<[u32; 4]> {
-        let row_texels = self.width.div_ceil(4) as usize;
-        let mut out = Vec::with_capacity(self.radiance.len() + row_texels * self.height as usize + self.height.div_ceil(4) as usize);
+        let mut out = Vec::with_capacity(self.texel_count());
         for (c, p) in self.radiance.iter().zip(&self.pdf) {
             out.push([c.x.to_bits(), c.y.to_bits(), c.z.to_bits(), p.to_bits()]);
         }
@@ -412,7 +416,7 @@ mod tests {
     }
 
     #[test]
-    fn a_constant_colour_is_sampled_almost_uniformly_and_a_wide_map_is_halved() {
+    fn a_constant_colour_is_sampled_almost_uniformly_and_a_wide_or_tall_map_is_halved() {
         let env = Environment::constant(Vec3::splat(2.0), 0.0);
         for d in [Vec3::X, Vec3::new(0.0, 0.6, 0.8), Vec3::new(0.3, -0.9, 0.3).normalize()] {
             let ratio = env.pdf(d) * 4.0 * PI;
@@ -421,6 +425,8 @@ mod tests {
         }
         let wide = Environment::from_texels(5000, 2500, vec![Vec3::ONE; 5000 * 2500], 0.0);
         assert_eq!((wide.width, wide.height), (1250, 625));
+        let tall = Environment::from_texels(3, 5000, vec![Vec3::ONE; 3 * 5000], 0.0);
+        assert_eq!((tall.width, tall.height), (1, 1250));
         assert_eq!(wide.radiance[0], Vec3::ONE);
         // Texels: the map, each row's CDF in whole texels, the marginal.
         let t = Environment::constant(Vec3::ONE, 0.0).texels();
