@@ -18,7 +18,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import mitsuba as mi  # noqa: E402  (glint_mitsuba sets the variant)
-from glint_mitsuba import lambert, main, quad_obj, rgb  # noqa: E402
+from glint_mitsuba import base_scene, ground, lambert, main, mirror  # noqa: E402
 from water_bottle import bottle  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -27,23 +27,12 @@ HDRI = os.path.join(REPO, "scenes", "assets", "hdri", "courtyard.exr")
 
 def scene(size, folder):
     # scenes/courtyard.ron, number for number.
-    ground = [(-8.0, 0.0, -8.0), (-8.0, 0.0, 8.0), (8.0, 0.0, 8.0), (8.0, 0.0, -8.0)]
-    mirror = {"type": "conductor", "material": "none", "specular_reflectance": rgb([0.9, 0.9, 0.9])}
-    return {
-        "type": "scene",
-        "integrator": {"type": "path", "max_depth": 65, "rr_depth": 5},
-        "sensor": {
-            "type": "perspective",
-            "fov": 36.0,
-            "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0.0, 0.8, 3.2], target=[0.1, 0.4, 0.0], up=[0, 1, 0]),
-            "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-        },
-        "sky": {"type": "envmap", "filename": HDRI, "scale": 0.6, "to_world": mi.ScalarTransform4f().rotate(axis=[0, 1, 0], angle=90.0)},
-        "ground": {"type": "obj", "filename": quad_obj(folder, "ground", ground), "bsdf": lambert([0.42, 0.41, 0.40]), "face_normals": True},
-        "bottle": bottle(folder, translate=(-0.25, 0.39, 0.0), scale=3.0, rotate_deg=(0.0, 300.0, 0.0)),
-        "mirror": {"type": "sphere", "center": [0.45, 0.28, -0.25], "radius": 0.28, "bsdf": mirror},
-    }
+    d = base_scene(size, (0.0, 0.8, 3.2), (0.1, 0.4, 0.0), 36.0)
+    d["sky"] = {"type": "envmap", "filename": HDRI, "scale": 0.6, "to_world": mi.ScalarTransform4f().rotate(axis=[0, 1, 0], angle=90.0)}
+    d["ground"] = ground(folder, 8.0, lambert([0.42, 0.41, 0.40]))
+    d["bottle"] = bottle(folder, translate=(-0.25, 0.39, 0.0), scale=3.0, rotate_deg=(0.0, 300.0, 0.0))
+    d["mirror"] = {"type": "sphere", "center": [0.45, 0.28, -0.25], "radius": 0.28, "bsdf": mirror([0.9, 0.9, 0.9])}
+    return d
 
 
 if __name__ == "__main__":

@@ -155,6 +155,34 @@ def metal_rough(base, metallic, roughness):
     return {"type": "twosided", "material": {"type": "gltf_metal_rough", "base_color": rgb(base), "metallic": metallic, "roughness": roughness}}
 
 
+def mirror(reflectance):
+    """The thesis material's perfect mirror (specular 1, roughness 0)."""
+    return {"type": "conductor", "material": "none", "specular_reflectance": rgb(reflectance)}
+
+
+def base_scene(size, origin, target, vfov):
+    """A scene dict with glint's path tracer's settings and a square
+    camera at `origin` looking at `target`, `vfov` degrees high (a RON
+    `Camera`, up +y)."""
+    return {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 65, "rr_depth": 5},
+        "sensor": {
+            "type": "perspective",
+            "fov": vfov,
+            "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(origin=list(origin), target=list(target), up=[0, 1, 0]),
+            "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+        },
+    }
+
+
+def ground(folder, half, bsdf):
+    """A square ground quad at y = 0, `half` wide each way."""
+    vertices = [(-half, 0.0, -half), (-half, 0.0, half), (half, 0.0, half), (half, 0.0, -half)]
+    return {"type": "obj", "filename": quad_obj(folder, "ground", vertices), "bsdf": bsdf, "face_normals": True}
+
+
 def quad_obj(folder, name, vertices):
     path = os.path.join(folder, name + ".obj")
     with open(path, "w") as f:
@@ -180,17 +208,7 @@ def cornell_box(size, folder, floor=None, light_center=(0.0, 0.75, 0.0)):
         "left": ([(-1, -1, -1), (-1, 1, -1), (-1, 1, 1), (-1, -1, 1)], lambert(RED)),
         "right": ([(1, -1, -1), (1, -1, 1), (1, 1, 1), (1, 1, -1)], lambert(GREEN)),
     }
-    d = {
-        "type": "scene",
-        "integrator": {"type": "path", "max_depth": 65, "rr_depth": 5},
-        "sensor": {
-            "type": "perspective",
-            "fov": 40.0,
-            "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 3.4], target=[0, 0, 0], up=[0, 1, 0]),
-            "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-        },
-    }
+    d = base_scene(size, (0, 0, 3.4), (0, 0, 0), 40.0)
     for name, (vertices, bsdf) in walls.items():
         d[name] = {"type": "obj", "filename": quad_obj(folder, name, vertices), "bsdf": bsdf, "face_normals": True}
     d["light"] = {

@@ -17,8 +17,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import mitsuba as mi  # noqa: E402  (glint_mitsuba sets the variant)
-from glint_mitsuba import lambert, main, metal_rough, quad_obj, rgb  # noqa: E402
+from glint_mitsuba import base_scene, ground, lambert, main, metal_rough, mirror  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SKY = os.path.join(REPO, "scenes", "assets", "sky", "sky.pfm")
@@ -26,24 +25,13 @@ SKY = os.path.join(REPO, "scenes", "assets", "sky", "sky.pfm")
 
 def scene(size, folder):
     # scenes/sky.ron, number for number.
-    ground = [(-6.0, 0.0, -6.0), (-6.0, 0.0, 6.0), (6.0, 0.0, 6.0), (6.0, 0.0, -6.0)]
-    mirror = {"type": "conductor", "material": "none", "specular_reflectance": rgb([0.9, 0.9, 0.9])}
-    return {
-        "type": "scene",
-        "integrator": {"type": "path", "max_depth": 65, "rr_depth": 5},
-        "sensor": {
-            "type": "perspective",
-            "fov": 40.0,
-            "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0.0, 1.2, 4.5], target=[0.0, 0.4, 0.0], up=[0, 1, 0]),
-            "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "box"}, "pixel_format": "rgb"},
-        },
-        "sky": {"type": "envmap", "filename": SKY, "scale": 1.0},
-        "ground": {"type": "obj", "filename": quad_obj(folder, "ground", ground), "bsdf": lambert([0.5, 0.48, 0.45]), "face_normals": True},
-        "white": {"type": "sphere", "center": [-1.1, 0.5, 0.0], "radius": 0.5, "bsdf": lambert([0.8, 0.8, 0.8])},
-        "mirror": {"type": "sphere", "center": [0.0, 0.5, -0.6], "radius": 0.5, "bsdf": mirror},
-        "gold": {"type": "sphere", "center": [1.1, 0.5, 0.2], "radius": 0.5, "bsdf": metal_rough([1.0, 0.766, 0.336], 1.0, 0.3)},
-    }
+    d = base_scene(size, (0.0, 1.2, 4.5), (0.0, 0.4, 0.0), 40.0)
+    d["sky"] = {"type": "envmap", "filename": SKY, "scale": 1.0}
+    d["ground"] = ground(folder, 6.0, lambert([0.5, 0.48, 0.45]))
+    d["white"] = {"type": "sphere", "center": [-1.1, 0.5, 0.0], "radius": 0.5, "bsdf": lambert([0.8, 0.8, 0.8])}
+    d["mirror"] = {"type": "sphere", "center": [0.0, 0.5, -0.6], "radius": 0.5, "bsdf": mirror([0.9, 0.9, 0.9])}
+    d["gold"] = {"type": "sphere", "center": [1.1, 0.5, 0.2], "radius": 0.5, "bsdf": metal_rough([1.0, 0.766, 0.336], 1.0, 0.3)}
+    return d
 
 
 if __name__ == "__main__":
