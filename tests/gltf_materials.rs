@@ -13,6 +13,12 @@ use glint::brdf::{self, MetalRough};
 /// (glTF's), its material `material` (JSON) reading 1x1 images `texels`
 /// (texture i is image i, repeat), lit by a sun travelling along `sun`.
 fn quad_scene(dir: &std::path::Path, name: &str, material: &str, texels: &[[u8; 4]], sun: Vec3) -> std::path::PathBuf {
+    quad_scene_with(dir, name, material, texels, sun, &[])
+}
+
+/// `quad_scene` with more float attributes at its four corners: (name,
+/// glTF type, values).
+fn quad_scene_with(dir: &std::path::Path, name: &str, material: &str, texels: &[[u8; 4]], sun: Vec3, extra: &[(&str, &str, Vec<f32>)]) -> std::path::PathBuf {
     use base64::Engine as _;
     let b64 = |b: &[u8]| base64::engine::general_purpose::STANDARD.encode(b);
     let images: Vec<String> = texels
@@ -29,13 +35,21 @@ fn quad_scene(dir: &std::path::Path, name: &str, material: &str, texels: &[[u8; 
     let uv: [[f32; 2]; 4] = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
     let mut blob: Vec<u8> = pos.iter().flatten().chain(uv.iter().flatten()).flat_map(|x| x.to_le_bytes()).collect();
     blob.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    blob.extend([0u8; 4]);
+    let (mut attributes, mut accessors, mut views) = (String::new(), String::new(), String::new());
+    for (k, (attr, ty, values)) in extra.iter().enumerate() {
+        attributes += &format!(r#", "{attr}": {}"#, k + 3);
+        accessors += &format!(r#", {{"bufferView": {}, "componentType": 5126, "count": 4, "type": "{ty}"}}"#, k + 3);
+        views += &format!(r#", {{"buffer": 0, "byteOffset": {}, "byteLength": {}}}"#, blob.len(), 4 * values.len());
+        blob.extend(values.iter().flat_map(|x| x.to_le_bytes()));
+    }
     let gltf = format!(
         r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
-  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0}}]}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1{attributes}}}, "indices": 2, "material": 0}}]}}],
   "materials": [{material}], "textures": [{}], "images": [{}],
   "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]}},
-    {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}}, {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}],
-  "bufferViews": [{{"buffer": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}],
+    {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}}, {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}{accessors}],
+  "bufferViews": [{{"buffer": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 32}}, {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}{views}],
   "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}]}}"#,
         textures.join(", "),
         images.join(", "),
@@ -108,6 +122,52 @@ fn a_normal_texture_bends_the_shading_normal_its_way() {
             eprintln!("normal bent {name}, sun toward {sun_name}: {:.4} (want {:.4})", got.x, want.x);
             assert!((got - want).abs().max_element() <= 0.03 * want.max_element() + 1e-3, "normal bent {name}, sun toward {sun_name}: {got}, want {want}");
         }
+    }
+}
+
+#[test]
+fn a_normal_texture_bends_in_the_frame_of_the_files_tangents() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("gltf-tangents");
+    let material = r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}, "normalTexture": {"index": 0}}"#;
+    let m = MetalRough { base: Vec3::ONE, metallic: 0.0, roughness: 1.0 };
+    // A texel bent toward the texture's +x, in a frame whose tangent the
+    // file turns to world +y (and whose bitangent, cross(n, t) w with w =
+    // -1, to +x): the normal bends toward +y, not along u (+x).
+    let right = [218u8, 128, 218, 255];
+    let c = Vec3::new(218.0, 128.0, 218.0) / 255.0 * 2.0 - Vec3::ONE;
+    // (glTF ignores a primitive's tangents where it has no normals.)
+    let attributes = [("NORMAL", "VEC3", [0.0, 0.0, 1.0].repeat(4)), ("TANGENT", "VEC4", [0.0, 1.0, 0.0, -1.0].repeat(4))];
+    for (sun_name, toward) in [("x", Vec3::new(1.0, 0.0, 1.0)), ("y", Vec3::new(0.0, 1.0, 1.0))] {
+        let l = toward.normalize();
+        let n = (Vec3::Y * c.x + Vec3::Z * c.z).normalize();
+        let img = path_traced_32(&quad_scene_with(&dir, &format!("turned-{sun_name}"), material, &[right], -l, &attributes));
+        let want = brdf::eval(&m, n, Vec3::Z, l) * n.dot(l).max(0.0);
+        let got = centre_32(&img);
+        eprintln!("the file's tangent along +y, sun toward {sun_name}: {:.4} (want {:.4})", got.x, want.x);
+        assert!((got - want).abs().max_element() <= 0.03 * want.max_element() + 1e-3, "sun toward {sun_name}: {got}, want {want}");
+    }
+}
+
+#[test]
+fn vertex_colours_multiply_the_base_colour() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("gltf-vertex-colours");
+    let sun = Vec3::new(0.0, 0.0, -1.0);
+    let tint = [1.0, 0.5, 0.25];
+    let coloured = quad_scene_with(&dir, "coloured", r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}}"#, &[], sun, &[("COLOR_0", "VEC3", tint.repeat(4))]);
+    let factor = quad_scene(&dir, "factor", r#"{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.25, 1], "metallicFactor": 0, "roughnessFactor": 1}}"#, &[], sun);
+    for graph in ["passes/pathtrace.ron", "passes/hybrid.ron"] {
+        let seen = |scene: &std::path::Path| {
+            centre_32(&render(gpu().expect("gpu"), glint::scene::load(scene).unwrap_or_else(|e| panic!("{e}")), &repo().join(graph), (32, 32), 2, None))
+        };
+        let (got, want) = (seen(&coloured), seen(&factor));
+        eprintln!("{graph}: vertex colours {got}, base colour factor {want}");
+        assert!(want.x > 0.1 && (got - want).abs().max_element() <= 0.005 * want.max_element(), "{graph}: {got} against {want}");
     }
 }
 

@@ -20,6 +20,12 @@ override SCENE_TEXTURE_TRANSFORMS: bool = true;
 // Some material is alpha-tested (alphaMode MASK): traversal asks
 // alpha_passes of each triangle it would take.
 override SCENE_ALPHA_MASK: bool = true;
+// Some triangle has vertex colours (glTF COLOR_0): they multiply the base
+// colour as a texture does.
+override SCENE_VERTEX_COLORS: bool = true;
+// Some normal-mapped triangle has vertex tangents (the file's TANGENT or
+// MikkTSpace's): normal textures bend in their frame.
+override SCENE_VERTEX_TANGENTS: bool = true;
 
 @group(1) @binding(14) var scene_uvs: texture_storage_2d<rgba32uint, read>;
 @group(1) @binding(15) var scene_material_textures: texture_storage_2d<rgba32uint, read>;
@@ -30,6 +36,10 @@ override SCENE_ALPHA_MASK: bool = true;
 @group(1) @binding(20) var scene_sampler: sampler;
 
 const NO_TEXTURE: u32 = 0xffffffffu;
+
+// Texels of `scene_uvs` a triangle (src/scene/gpu_types.rs, TriangleUvGpu):
+// uv0 uv1 | uv2 tangent0 tangent1 | tangent2 colour0 colour1 colour2.
+const UV_TEXELS: u32 = 3u;
 
 // The angle one pixel spans (the width of a camera ray's cone per unit
 // of distance).
@@ -86,14 +96,17 @@ struct SurfaceUv {
     e2: vec3f,
     du1: vec2f,
     du2: vec2f,
+    // The triangle and p's barycentrics there (vertex attributes).
+    prim: u32,
+    bary: vec2f,
 }
 
 fn surface_uv(prim: u32, p: vec3f, rd: vec3f, width: f32) -> SurfaceUv {
     let p0 = load_triangle_vertex(prim, 0u);
     let e1 = load_triangle_vertex(prim, 1u) - p0;
     let e2 = load_triangle_vertex(prim, 2u) - p0;
-    let t01 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim));
-    let t2 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim + 1u)).xy;
+    let t01 = bitcast<vec4f>(scene_texel(scene_uvs, UV_TEXELS * prim));
+    let t2 = bitcast<vec4f>(scene_texel(scene_uvs, UV_TEXELS * prim + 1u)).xy;
     // Barycentrics of p (projected onto the triangle's plane).
     let q = p - p0;
     let d00 = dot(e1, e1);
@@ -114,7 +127,27 @@ fn surface_uv(prim: u32, p: vec3f, rd: vec3f, width: f32) -> SurfaceUv {
     let uv_area = abs(du1.x * du2.y - du1.y * du2.x);
     let cos_t = max(abs(dot(n, rd)) / max(world_area, 1e-30), 0.05);
     let lod_uv = log2(max(width * sqrt(uv_area / max(world_area, 1e-30)) / cos_t, 1e-30));
-    return SurfaceUv(uv, lod_uv, e1, e2, du1, du2);
+    return SurfaceUv(uv, lod_uv, e1, e2, du1, du2, prim, vec2f(b1, b2));
+}
+
+// A colour packed as 1 - c in unorm 11-11-10 (gpu_types.rs, pack_color):
+// zero, what a scene without vertex colours holds, is white.
+fn unpack_color(v: u32) -> vec3f {
+    return 1.0 - vec3f(f32(v & 0x7ffu) / 2047.0, f32((v >> 11u) & 0x7ffu) / 2047.0, f32(v >> 22u) / 1023.0);
+}
+
+// The vertex colour at s, interpolated.
+fn vertex_color(s: SurfaceUv) -> vec3f {
+    let c = scene_texel(scene_uvs, UV_TEXELS * s.prim + 2u).yzw;
+    return (1.0 - s.bary.x - s.bary.y) * unpack_color(c.x) + s.bary.x * unpack_color(c.y) + s.bary.y * unpack_color(c.z);
+}
+
+// A tangent packed as snorm 10-10-10 and a sign bit (gpu_types.rs,
+// pack_tangent): xyz and the bitangent's sign.
+fn unpack_tangent(v: u32) -> vec4f {
+    let i = bitcast<i32>(v);
+    let xyz = vec3f(f32(extractBits(i, 0u, 10u)), f32(extractBits(i, 10u, 10u)), f32(extractBits(i, 20u, 10u))) / 511.0;
+    return vec4f(xyz, select(1.0, -1.0, (v & 0x40000000u) != 0u));
 }
 
 // Material record texels (src/scene/gpu_types.rs, MaterialTexturesGpu).
@@ -149,7 +182,7 @@ fn material_at(id: u32, prim: u32, p: vec3f, rd: vec3f, width: f32) -> Material 
     if is_metal_rough(m) {
         mr_slot = material_texel(id, 5u).x;
     }
-    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE {
+    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE && !SCENE_VERTEX_COLORS {
         return m;
     }
     return textured(m, id, slots, mr_slot, surface_uv(prim, p, rd, width));
@@ -186,6 +219,9 @@ fn texture_factors(id: u32, slots: vec4u, mr_slot: u32, s: SurfaceUv) -> Texture
         // glTF: green is roughness, blue metalness (linear data).
         f.rough_metal = sample_material(id, mr_slot, 6u, slots.z, 8u, s).gb;
     }
+    if SCENE_VERTEX_COLORS {
+        f.base *= vertex_color(s);
+    }
     return f;
 }
 
@@ -219,7 +255,7 @@ fn surface_factors(m: Material, id: u32, prim: u32, p: vec3f, rd: vec3f, width: 
     let slots = material_texel(id, 0u);
     let more = material_texel(id, 5u);
     let mr_slot = select(NO_TEXTURE, more.x, is_metal_rough(m));
-    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE && more.y == NO_TEXTURE {
+    if slots.x == NO_TEXTURE && slots.y == NO_TEXTURE && mr_slot == NO_TEXTURE && more.y == NO_TEXTURE && !SCENE_VERTEX_COLORS {
         return SurfaceFactors(n, NO_FACTORS);
     }
     let s = surface_uv(prim, p, rd, width);
@@ -256,26 +292,57 @@ fn stored_material(ids: vec4u, packed: vec4u) -> Material {
 
 // `n` bent by normal texture `slot` of material `id` (x and y times
 // `scale`; `wrap_bits` the record's wrap modes) at s, in the tangent frame
-// the triangle's uvs give (+x along u, +y toward the image's top, as
-// glTF's normal textures are written), Gram-Schmidt against n; n itself
-// where the uvs are degenerate.
+// of the triangle's vertex tangents where it has them (glTF's bitangent
+// cross(n, t) w), else of its uvs (+x along u, +y toward the image's top,
+// as glTF's normal textures are written); the tangent made orthogonal to n
+// (Gram-Schmidt); n itself where neither frame exists.
 fn bent_normal(id: u32, slot: u32, scale: f32, wrap_bits: u32, s: SurfaceUv, n: vec3f) -> vec3f {
+    var frame = uv_frame(s, n);
+    if SCENE_VERTEX_TANGENTS {
+        let t01 = scene_texel(scene_uvs, UV_TEXELS * s.prim + 1u).zw;
+        let t2 = scene_texel(scene_uvs, UV_TEXELS * s.prim + 2u).x;
+        if t01.x != 0u && t01.y != 0u && t2 != 0u {
+            let a = unpack_tangent(t01.x);
+            let t = (1.0 - s.bary.x - s.bary.y) * a.xyz + s.bary.x * unpack_tangent(t01.y).xyz + s.bary.y * unpack_tangent(t2).xyz;
+            let tu = t - n * dot(n, t);
+            if dot(tu, tu) > 1e-12 {
+                let tn = normalize(tu);
+                frame = TangentFrame(tn, cross(n, tn) * a.w, true);
+            }
+        }
+    }
+    if !frame.ok {
+        return n;
+    }
+    let c = sample_material(id, slot, 8u, wrap_bits, 12u, s).xyz * 2.0 - 1.0;
+    let bent = frame.t * (c.x * scale) + frame.b * (c.y * scale) + n * c.z;
+    return select(n, normalize(bent), dot(bent, bent) > 0.0);
+}
+
+// A tangent, a bitangent toward the normal texture's +y, and whether they
+// exist.
+struct TangentFrame {
+    t: vec3f,
+    b: vec3f,
+    ok: bool,
+}
+
+// The frame of the triangle's uvs at s around n: +x along u, +y toward the
+// image's top (glTF's v runs down it).
+fn uv_frame(s: SurfaceUv, n: vec3f) -> TangentFrame {
+    let none = TangentFrame(vec3f(0.0), vec3f(0.0), false);
     let det = s.du1.x * s.du2.y - s.du1.y * s.du2.x;
     if abs(det) < 1e-20 {
-        return n;
+        return none;
     }
     let dpdu = (s.e1 * s.du2.y - s.e2 * s.du1.y) / det;
     let dpdv = (s.e2 * s.du1.x - s.e1 * s.du2.x) / det;
     let tu = dpdu - n * dot(n, dpdu);
     if dot(tu, tu) <= 0.0 {
-        return n;
+        return none;
     }
     let t = normalize(tu);
-    // Up in the image is -v (glTF's v runs down it).
-    let b = cross(n, t) * select(1.0, -1.0, dot(cross(n, t), dpdv) > 0.0);
-    let c = sample_material(id, slot, 8u, wrap_bits, 12u, s).xyz * 2.0 - 1.0;
-    let bent = t * (c.x * scale) + b * (c.y * scale) + n * c.z;
-    return select(n, normalize(bent), dot(bent, bent) > 0.0);
+    return TangentFrame(t, cross(n, t) * select(1.0, -1.0, dot(cross(n, t), dpdv) > 0.0), true);
 }
 
 // A hit's textured material and bent shading normal.
@@ -346,8 +413,8 @@ fn alpha_passes(material: u32, prim: u32, bary: vec2f) -> bool {
     if slots.x == NO_TEXTURE {
         return threshold <= 1.0;
     }
-    let t01 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim));
-    let t2 = bitcast<vec4f>(scene_texel(scene_uvs, 2u * prim + 1u)).xy;
+    let t01 = bitcast<vec4f>(scene_texel(scene_uvs, UV_TEXELS * prim));
+    let t2 = bitcast<vec4f>(scene_texel(scene_uvs, UV_TEXELS * prim + 1u)).xy;
     let uv = (1.0 - bary.x - bary.y) * t01.xy + bary.x * t01.zw + bary.y * t2;
     var t = uv;
     if SCENE_TEXTURE_TRANSFORMS {

@@ -60,8 +60,13 @@ pub struct SceneFeatures {
     pub emissive: bool,
     /// Something moves.
     pub motion: bool,
-    /// Some surface samples a texture (base colour or emission).
+    /// Some surface samples a texture or has vertex colours (both multiply
+    /// the material through its texture factors).
     pub textures: bool,
+    /// Some triangle has vertex colours other than white.
+    pub vertex_colors: bool,
+    /// Some normal-mapped triangle has vertex tangents.
+    pub vertex_tangents: bool,
     /// Which texture size classes (`texture_classes::CLASSES`) hold images.
     pub texture_classes: [bool; 4],
     /// Some texture has a uv transform other than the identity.
@@ -106,6 +111,8 @@ impl SceneFeatures {
             emissive: true,
             motion: true,
             textures: true,
+            vertex_colors: true,
+            vertex_tangents: true,
             texture_classes: [true; 4],
             texture_transforms: true,
             spot_lights: true,

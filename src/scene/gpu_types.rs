@@ -169,8 +169,9 @@ pub struct LightGpu {
     pub spot: [f32; 4],
 }
 
-/// `struct TriangleUv` (32 bytes): the texture coordinates of the
-/// triangle with the same index (only in scenes with textures).
+/// The vertex attributes of the triangle with the same index, three texels
+/// of `scene_uvs` (48 bytes; only in scenes with textures or vertex
+/// colours): texture coordinates, packed tangents and packed colours.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, PartialEq, Pod, Zeroable)]
 pub struct TriangleUvGpu {
@@ -180,8 +181,28 @@ pub struct TriangleUvGpu {
     pub uv1: [f32; 2],
     /// At `p2`.
     pub uv2: [f32; 2],
-    /// Padding; zero.
-    pub _pad: [f32; 2],
+    /// The tangents at `p0`, `p1`, `p2` (`pack_tangent`).
+    pub tangents: [u32; 3],
+    /// The vertex colours at `p0`, `p1`, `p2` (`pack_color`).
+    pub colors: [u32; 3],
+}
+
+/// A tangent as 10-bit signed normalised x, y, z and the bitangent's sign
+/// in the top two bits (1 for -1); zero is no tangent
+/// (`shared/textures.wgsl`, `unpack_tangent`).
+pub fn pack_tangent(t: glam::Vec4) -> u32 {
+    let q = |x: f32| ((x.clamp(-1.0, 1.0) * 511.0).round() as i32 as u32) & 0x3ff;
+    q(t.x) | (q(t.y) << 10) | (q(t.z) << 20) | (u32::from(t.w < 0.0) << 30)
+}
+
+/// A colour in [0, 1] as unsigned normalised 11-bit red and green and
+/// 10-bit blue, each stored as 1 - c so that zero is white: a shader that
+/// reads the attributes of a scene without any (the generic one, bound to
+/// an empty texture) multiplies by one (`shared/textures.wgsl`,
+/// `unpack_color`).
+pub fn pack_color(c: glam::Vec3) -> u32 {
+    let q = |x: f32, max: f32| ((1.0 - x.clamp(0.0, 1.0)) * max).round() as u32;
+    q(c.x, 2047.0) | (q(c.y, 2047.0) << 11) | (q(c.z, 1023.0) << 22)
 }
 
 /// `struct MaterialTextures` (160 bytes, ten texels): a material's texture
@@ -331,5 +352,36 @@ impl SceneData {
             return None;
         }
         self.spheres.iter().position(|s| usize::try_from(s.light).ok() == Some(last))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec3, Vec4};
+
+    /// `unpack_tangent` and `unpack_color` of shared/textures.wgsl.
+    fn unpack_tangent(v: u32) -> Vec4 {
+        let s = |shift: u32| (((v >> shift) & 0x3ff) as i32) << 22 >> 22;
+        Vec4::new(s(0) as f32 / 511.0, s(10) as f32 / 511.0, s(20) as f32 / 511.0, if v & 0x4000_0000 != 0 { -1.0 } else { 1.0 })
+    }
+
+    fn unpack_color(v: u32) -> Vec3 {
+        Vec3::ONE - Vec3::new((v & 0x7ff) as f32 / 2047.0, ((v >> 11) & 0x7ff) as f32 / 2047.0, (v >> 22) as f32 / 1023.0)
+    }
+
+    #[test]
+    fn tangents_and_colours_pack_to_what_the_shader_reads() {
+        for t in [Vec4::new(1.0, 0.0, 0.0, 1.0), Vec4::new(0.0, -1.0, 0.0, -1.0), Vec4::new(0.6, -0.48, 0.64, -1.0), Vec4::new(-0.36, 0.48, -0.8, 1.0)] {
+            let back = unpack_tangent(pack_tangent(t));
+            assert!((back - t).abs().max_element() <= 0.5 / 511.0 + 1e-6, "{t} -> {back}");
+            assert_ne!(pack_tangent(t), 0, "a tangent is never read as none");
+        }
+        for c in [Vec3::ONE, Vec3::ZERO, Vec3::new(0.25, 0.001, 0.999)] {
+            let back = unpack_color(pack_color(c));
+            assert!((back - c).abs().max_element() <= 0.5 / 1023.0 + 1e-6, "{c} -> {back}");
+        }
+        assert_eq!(pack_color(Vec3::ONE), 0, "white is zero, what an empty texture reads");
+        assert_eq!(unpack_color(pack_color(Vec3::ONE)), Vec3::ONE, "white stays exactly white");
     }
 }

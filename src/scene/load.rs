@@ -313,7 +313,12 @@ impl<'a, 'l> Builder<'a, 'l> {
         let used = |f: &dyn Fn(&MaterialTextures) -> bool| {
             self.meshes.iter().flat_map(|m| &m.triangles).any(|t| self.material_textures.get(t.material as usize).is_some_and(f))
         };
-        features.textures = used(&|m| m.base_color.is_some() || m.emissive.is_some() || m.metallic_roughness.is_some() || m.normal.is_some());
+        let triangles = || self.meshes.iter().flat_map(|m| &m.triangles);
+        features.vertex_colors = triangles().any(|t| t.color != [Vec3::ONE; 3]);
+        features.vertex_tangents = triangles()
+            .any(|t| t.tangent != [glam::Vec4::ZERO; 3] && self.material_textures.get(t.material as usize).is_some_and(|m| m.normal.is_some()));
+        features.textures =
+            features.vertex_colors || used(&|m| m.base_color.is_some() || m.emissive.is_some() || m.metallic_roughness.is_some() || m.normal.is_some());
         features.alpha_mask = used(&|m| m.alpha_mask.is_some());
         features.single_sided = self.meshes.iter().flat_map(|m| &m.triangles).any(|t| self.materials.get(t.material as usize).is_some_and(MaterialGpu::is_single_sided));
         features.texture_classes = super::texture_classes::layout(&self.textures).layers.map(|n| n > 0);
@@ -455,12 +460,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             .ok_or_else(|| ctx.err("vertices", "the quad is degenerate (zero area)"))?;
         let at = v[0];
         let local: Vec<Vec3> = v.iter().map(|&p| (p - at).as_vec3()).collect();
-        let tri = |a: usize, b: usize, c: usize| LocalTriangle {
-            p: [local[a], local[b], local[c]],
-            n: [n; 3],
-            uv: [Vec2::ZERO; 3],
-            material,
-        };
+        let tri = |a: usize, b: usize, c: usize| LocalTriangle::plain([local[a], local[b], local[c]], [n; 3], [Vec2::ZERO; 3], material);
         self.meshes.push(MeshData {
             triangles: vec![tri(0, 1, 2), tri(0, 2, 3)],
         });
@@ -531,12 +531,7 @@ impl<'a, 'l> Builder<'a, 'l> {
                 (None, Some(m)) => base + m as u32,
                 (None, None) => self.default_material(),
             };
-            triangles.push(LocalTriangle {
-                p: t.p,
-                n: t.n,
-                uv: t.uv,
-                material: id,
-            });
+            triangles.push(LocalTriangle::plain(t.p, t.n, t.uv, id));
         }
         self.meshes.push(MeshData { triangles });
         let mesh = self.meshes.len() - 1;

@@ -174,15 +174,21 @@ impl Builder<'_, '_> {
             let material = self.gltf_material(g, t.material);
             let mut p = t.p.map(|p| (linear * p.as_dvec3()).as_vec3());
             let mut n = t.n.map(|n| (normal_matrix * n.as_dvec3()).as_vec3().normalize_or(n));
+            // A tangent lies in the surface: it goes by `linear` itself. A
+            // mirror turns cross(n, t) the other way, so w turns too.
+            let mut tangent = t.tangent.map(|v| {
+                let xyz = (linear * v.truncate().as_dvec3()).as_vec3().normalize_or_zero();
+                xyz.extend(if mirrored { -v.w } else { v.w })
+            });
+            let (mut uv, mut color) = (t.uv, t.color);
             if mirrored {
                 p.swap(1, 2);
                 n.swap(1, 2);
-            }
-            let mut uv = t.uv;
-            if mirrored {
                 uv.swap(1, 2);
+                tangent.swap(1, 2);
+                color.swap(1, 2);
             }
-            triangles.push(LocalTriangle { p, n, uv, material });
+            triangles.push(LocalTriangle { p, n, uv, tangent, color, material });
         }
         self.meshes.push(MeshData { triangles });
         self.meshes.len() - 1

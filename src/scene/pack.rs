@@ -3,12 +3,12 @@
 //! the world and f32 on the GPU, relative to an origin the session keeps
 //! near the camera (camera-relative rendering; docs/ARCHITECTURE.md).
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4};
 
 use super::features::SceneFeatures;
 use super::gpu_types::{
     LightGpu, MaterialTexturesGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, TriangleUvGpu, FLAT_LIMIT,
-    LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPHERE,
+    LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPHERE, pack_color, pack_tangent,
 };
 use super::texture_classes;
 use super::world::{
@@ -108,7 +108,10 @@ impl Scene {
                 });
                 if textured {
                     let [a, b, c] = tri.uv.map(|v| v.to_array());
-                    uvs.push(TriangleUvGpu { uv0: a, uv1: b, uv2: c, _pad: [0.0; 2] });
+                    // Placements are similarities (others are baked into
+                    // the mesh), so a tangent turns as a normal does.
+                    let tangents = tri.tangent.map(|v| if v == Vec4::ZERO { 0 } else { pack_tangent(t.normal(v.truncate()).extend(v.w)) });
+                    uvs.push(TriangleUvGpu { uv0: a, uv1: b, uv2: c, tangents, colors: tri.color.map(pack_color) });
                 }
                 normals.push(TriangleNormalsGpu {
                     n0: n[0].into(),

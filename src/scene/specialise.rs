@@ -66,6 +66,14 @@ pub const SCENE_TEXTURE_CLASSES: [&str; 4] = ["SCENE_TEXTURES_256", "SCENE_TEXTU
 /// (shared/textures.wgsl, sample_material).
 pub const SCENE_TEXTURE_TRANSFORMS: &str = "SCENE_TEXTURE_TRANSFORMS";
 
+/// Whether some triangle has vertex colours (shared/textures.wgsl,
+/// texture_factors).
+pub const SCENE_VERTEX_COLORS: &str = "SCENE_VERTEX_COLORS";
+
+/// Whether some normal-mapped triangle has vertex tangents (the file's or
+/// MikkTSpace's; shared/textures.wgsl, bent_normal).
+pub const SCENE_VERTEX_TANGENTS: &str = "SCENE_VERTEX_TANGENTS";
+
 /// Whether the scene has an environment light (shared/environment.wgsl):
 /// without one a miss sees `background` and nothing samples it.
 pub const SCENE_ENVIRONMENT: &str = "SCENE_ENVIRONMENT";
@@ -75,7 +83,7 @@ pub const SCENE_ENVIRONMENT: &str = "SCENE_ENVIRONMENT";
 pub const SCENE_SINGLE_SIDED: &str = "SCENE_SINGLE_SIDED";
 
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 19] = [
+pub const GENERIC: [(&str, bool); 21] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -95,6 +103,8 @@ pub const GENERIC: [(&str, bool); 19] = [
     (SCENE_TEXTURE_CLASSES[2], true),
     (SCENE_TEXTURE_CLASSES[3], true),
     (SCENE_TEXTURE_TRANSFORMS, true),
+    (SCENE_VERTEX_COLORS, true),
+    (SCENE_VERTEX_TANGENTS, true),
 ];
 
 /// The specialisations for a scene with `f`: only the constants that
@@ -157,6 +167,12 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
         if !f.texture_transforms {
             out.push(Specialisation { constant: SCENE_TEXTURE_TRANSFORMS, value: false, reason: "no texture transform: uvs read as they are" });
         }
+        if !f.vertex_colors {
+            out.push(Specialisation { constant: SCENE_VERTEX_COLORS, value: false, reason: "no vertex colours: none read" });
+        }
+        if !f.vertex_tangents {
+            out.push(Specialisation { constant: SCENE_VERTEX_TANGENTS, value: false, reason: "no vertex tangents: normal textures bent in each triangle's uv frame" });
+        }
     }
     out
 }
@@ -199,7 +215,9 @@ mod tests {
         let got = names(&SceneFeatures::default());
         let want: Vec<_> = GENERIC
             .iter()
-            .filter(|(c, _)| *c != SCENE_ONE_LIGHT && !SCENE_TEXTURE_CLASSES.contains(c) && *c != SCENE_TEXTURE_TRANSFORMS)
+            .filter(|(c, _)| {
+                *c != SCENE_ONE_LIGHT && !SCENE_TEXTURE_CLASSES.contains(c) && ![SCENE_TEXTURE_TRANSFORMS, SCENE_VERTEX_COLORS, SCENE_VERTEX_TANGENTS].contains(c)
+            })
             .map(|(c, v)| (*c, !v))
             .collect();
         assert_eq!(got, want);
@@ -210,8 +228,9 @@ mod tests {
         let mut f = SceneFeatures::all();
         f.texture_classes = [false, true, false, false];
         f.texture_transforms = false;
+        f.vertex_tangents = false;
         let off: Vec<_> = specialisations(&f).iter().map(|s| (s.constant, s.value)).collect();
-        assert_eq!(off, [("SCENE_TEXTURES_256", false), ("SCENE_TEXTURES_1024", false), ("SCENE_TEXTURES_2048", false), (SCENE_TEXTURE_TRANSFORMS, false)]);
+        assert_eq!(off, [("SCENE_TEXTURES_256", false), ("SCENE_TEXTURES_1024", false), ("SCENE_TEXTURES_2048", false), (SCENE_TEXTURE_TRANSFORMS, false), (SCENE_VERTEX_TANGENTS, false)]);
     }
 
     #[test]

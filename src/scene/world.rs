@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use glam::{DVec3, Quat, Vec2, Vec3};
+use glam::{DVec3, Quat, Vec2, Vec3, Vec4};
 
 use super::features::SceneFeatures;
 use super::gpu_types::MaterialGpu;
@@ -176,8 +176,22 @@ pub struct LocalTriangle {
     pub n: [Vec3; 3],
     /// Texture coordinates at the vertices (zero where the mesh has none).
     pub uv: [Vec2; 3],
+    /// Tangents at the vertices (xyz unit, w the bitangent's sign), for
+    /// normal textures; zero where the mesh has none (the triangle's uvs
+    /// then give the frame).
+    pub tangent: [Vec4; 3],
+    /// Vertex colours, multiplying the base colour (one where the mesh has
+    /// none).
+    pub color: [Vec3; 3],
     /// Index into the scene's materials.
     pub material: u32,
+}
+
+impl LocalTriangle {
+    /// A triangle without tangents or vertex colours.
+    pub fn plain(p: [Vec3; 3], n: [Vec3; 3], uv: [Vec2; 3], material: u32) -> Self {
+        LocalTriangle { p, n, uv, tangent: [Vec4::ZERO; 3], color: [Vec3::ONE; 3], material }
+    }
 }
 
 /// Placement of an entity: world = translation + rotation * (scale * local).

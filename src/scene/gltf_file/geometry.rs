@@ -1,8 +1,9 @@
 //! A glTF mesh's primitives as triangles: each accessor checked (type,
 //! count, range in its buffer, finite values) before it is read, strips and
-//! fans unrolled, flat normals where a primitive has none.
+//! fans unrolled, flat normals where a primitive has none, MikkTSpace
+//! tangents where a normal-mapped one has none.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
@@ -14,6 +15,11 @@ pub(crate) struct GltfTriangle {
     pub n: [Vec3; 3],
     /// TEXCOORD_0 at the vertices (zero where the primitive has none).
     pub uv: [Vec2; 3],
+    /// Tangents (xyz unit, w the bitangent's sign) of normal-mapped
+    /// primitives, the file's TANGENT or MikkTSpace's; zero elsewhere.
+    pub tangent: [Vec4; 3],
+    /// COLOR_0's red, green and blue (one where the primitive has none).
+    pub color: [Vec3; 3],
     pub material: Option<usize>,
 }
 
@@ -67,6 +73,10 @@ pub(crate) fn triangles(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> Result<Vec<Gl
                 Some(t)
             }
         };
+        // glTF: tangents are ignored where normals are generated.
+        let normal_mapped = prim.material().normal_texture().is_some() && uvs.is_some();
+        let tangents = if normal_mapped && normals.is_some() { read_tangents(&prim, &reader, buffers, &at, p.len())? } else { None };
+        let colors = read_colors(&prim, &reader, buffers, &at, p.len())?;
         let indices: Vec<u32> = match prim.indices() {
             None => (0..p.len() as u32).collect(),
             Some(acc) => {
@@ -80,6 +90,7 @@ pub(crate) fn triangles(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> Result<Vec<Gl
             }
         };
         let material = prim.material().index();
+        let first = out.len();
         for [a, b, c] in unroll(mode, &indices) {
             let (a, b, c) = (a as usize, b as usize, c as usize);
             let pt = [p[a], p[b], p[c]];
@@ -90,10 +101,56 @@ pub(crate) fn triangles(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> Result<Vec<Gl
                 None => [flat; 3],
             };
             let uv = uvs.as_ref().map_or([Vec2::ZERO; 3], |t| [t[a], t[b], t[c]]);
-            out.push(GltfTriangle { p: pt, n, uv, material });
+            let tangent = tangents.as_ref().map_or([Vec4::ZERO; 3], |t| [t[a], t[b], t[c]]);
+            let color = colors.as_ref().map_or([Vec3::ONE; 3], |col| [col[a], col[b], col[c]]);
+            out.push(GltfTriangle { p: pt, n, uv, tangent, color, material });
+        }
+        if normal_mapped && tangents.is_none() {
+            let tris = &mut out[first..];
+            let (p, n, uv): (Vec<_>, Vec<_>, Vec<_>) = tris.iter().map(|t| (t.p, t.n, t.uv)).collect();
+            for (t, made) in tris.iter_mut().zip(super::tangents::generate(&p, &n, &uv)) {
+                t.tangent = made;
+            }
         }
     }
     Ok(out)
+}
+
+/// A primitive's TANGENT (None without one), checked: VEC4 floats, one a
+/// vertex, finite, w of +1 or -1 (its sign taken), xyz normalised (a zero
+/// one stays zero: the shader then takes the triangle's uv frame).
+fn read_tangents<'a, 's, F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>>(prim: &gltf::Primitive, reader: &gltf::mesh::Reader<'a, 's, F>, buffers: &[Vec<u8>], at: &str, vertices: usize) -> Result<Option<Vec<Vec4>>, String> {
+    let Some(acc) = prim.get(&gltf::Semantic::Tangents) else { return Ok(None) };
+    let t_at = format!("{at}.attributes.TANGENT");
+    check(&acc, &[Dimensions::Vec4], &[DataType::F32], buffers, &t_at)?;
+    let t: Vec<Vec4> = reader.read_tangents().ok_or_else(|| unreadable(&t_at))?.map(Vec4::from_array).collect();
+    if t.len() != vertices {
+        return Err(format!("{t_at}: {} tangents for {vertices} positions", t.len()));
+    }
+    if let Some(k) = t.iter().position(|v| !v.is_finite()) {
+        return Err(format!("{t_at}: tangent {k} is not finite ({:?})", t[k].to_array()));
+    }
+    Ok(Some(t.into_iter().map(|v| v.truncate().normalize_or_zero().extend(if v.w < 0.0 { -1.0 } else { 1.0 })).collect()))
+}
+
+/// A primitive's COLOR_0 (None without one): RGB or RGBA of floats or
+/// normalised bytes or shorts, one a vertex, finite; clamped to [0, 1] (a
+/// linear multiplier of the base colour). Its alpha is not read.
+fn read_colors<'a, 's, F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>>(prim: &gltf::Primitive, reader: &gltf::mesh::Reader<'a, 's, F>, buffers: &[Vec<u8>], at: &str, vertices: usize) -> Result<Option<Vec<Vec3>>, String> {
+    let Some(acc) = prim.get(&gltf::Semantic::Colors(0)) else { return Ok(None) };
+    let c_at = format!("{at}.attributes.COLOR_0");
+    check(&acc, &[Dimensions::Vec3, Dimensions::Vec4], &[DataType::F32, DataType::U8, DataType::U16], buffers, &c_at)?;
+    if acc.data_type() != DataType::F32 && !acc.normalized() {
+        return Err(format!("{c_at}: integer colours must be normalized (glTF)"));
+    }
+    let c: Vec<Vec3> = reader.read_colors(0).ok_or_else(|| unreadable(&c_at))?.into_rgb_f32().map(Vec3::from_array).collect();
+    if c.len() != vertices {
+        return Err(format!("{c_at}: {} colours for {vertices} positions", c.len()));
+    }
+    if let Some(k) = c.iter().position(|v| !v.is_finite()) {
+        return Err(format!("{c_at}: colour {k} is not finite ({:?})", c[k].to_array()));
+    }
+    Ok(Some(c.into_iter().map(|v| v.clamp(Vec3::ZERO, Vec3::ONE)).collect()))
 }
 
 /// The triangles (as vertex index triples, counter-clockwise front faces)

@@ -57,10 +57,10 @@ pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
         ];
         second_uvs += usize::from(sets.iter().flatten().any(|&set| set != 0));
     }
-    let (mut colours, mut tangents, mut morphs) = (0, 0, 0);
+    let (mut colour_alpha, mut morphs) = (0, 0);
     for prim in doc.meshes().flat_map(|m| m.primitives().collect::<Vec<_>>()) {
-        colours += usize::from(prim.get(&Semantic::Colors(0)).is_some());
-        tangents += usize::from(prim.get(&Semantic::Tangents).is_some() && prim.material().normal_texture().is_some());
+        let alpha_tested = prim.material().alpha_mode() != gltf::material::AlphaMode::Opaque;
+        colour_alpha += usize::from(alpha_tested && prim.get(&Semantic::Colors(0)).is_some_and(|a| a.dimensions() == gltf::accessor::Dimensions::Vec4));
         morphs += usize::from(prim.morph_targets().next().is_some());
     }
     let mut out = Vec::new();
@@ -72,8 +72,7 @@ pub(crate) fn left_out(doc: &gltf::Document) -> Vec<String> {
     say(occlusion, "material(s) have occlusion textures, which glint does not read (rays find the occlusion themselves)");
     say(blend, "material(s) use alphaMode BLEND, which glint renders as MASK at alpha 0.5");
     say(second_uvs, "material(s) read a texture through TEXCOORD_1 or later, which glint reads through TEXCOORD_0");
-    say(colours, "primitive(s) have vertex colours (COLOR_0), which glint does not apply");
-    say(tangents, "normal-mapped primitive(s) carry TANGENT, which glint does not read: it takes each triangle's tangent frame from its uvs");
+    say(colour_alpha, "alpha-tested primitive(s) have vertex colours with alpha (COLOR_0), whose alpha glint does not apply");
     say(morphs, "primitive(s) have morph targets, which glint does not apply (the base shape is shown)");
     out
 }

@@ -9,6 +9,7 @@ mod buffers;
 mod geometry;
 mod materials;
 mod nodes;
+mod tangents;
 mod textures;
 
 use std::path::{Path, PathBuf};

@@ -258,20 +258,94 @@ fn textures_uvs_and_transforms_are_read() {
 fn what_glint_leaves_out_is_said_once_each() {
     let bytes = buffer(&TRIANGLE, &[0, 1, 2]);
     let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
-    // Vertex colours and a morph target read the positions' accessor.
+    // A morph target reads the positions' accessor.
     let prim = &mut v["meshes"][0]["primitives"][0];
-    prim["attributes"]["COLOR_0"] = Value::from(0);
     prim["targets"] = gltf::json::deserialize::from_str(r#"[{"POSITION": 0}]"#).expect("json");
     prim["material"] = Value::from(0);
     v["materials"] = gltf::json::deserialize::from_str(r#"[{"name": "one side"}]"#).expect("json");
     let path = write_json(&scratch("left-out"), &v);
     let f = read(&path).unwrap_or_else(|e| panic!("{e}"));
     let warnings = f.warnings.join("\n");
-    for said in ["1 primitive(s) have vertex colours (COLOR_0)", "1 primitive(s) have morph targets"] {
-        assert!(warnings.contains(said), "{said:?} not in {warnings}");
-    }
+    assert!(warnings.contains("1 primitive(s) have morph targets"), "{warnings}");
     // A single-sided material is rendered as one now, and not said.
     assert!(!warnings.contains("single-sided"), "{warnings}");
     assert!(f.materials[0].is_single_sided());
-    assert!(!warnings.contains("TEXCOORD_1") && !warnings.contains("TANGENT"), "{warnings}");
+    assert!(!warnings.contains("TEXCOORD_1") && !warnings.contains("TANGENT") && !warnings.contains("COLOR_0"), "{warnings}");
+}
+
+/// The triangle with more attributes after its positions and indices:
+/// `extra` is (name, accessor JSON without its bufferView, bytes).
+fn with_attributes(name: &str, material: &str, extra: &[(&str, &str, Vec<u8>)]) -> Result<GltfFile, String> {
+    let mut bytes = buffer(&TRIANGLE, &[0, 1, 2]);
+    let mut views = vec![r#"{"buffer": 0, "byteLength": 36}"#.to_string(), r#"{"buffer": 0, "byteOffset": 36, "byteLength": 6}"#.to_string()];
+    let mut accessors = Vec::new();
+    for (k, (_, acc, data)) in extra.iter().enumerate() {
+        views.push(format!(r#"{{"buffer": 0, "byteOffset": {}, "byteLength": {}}}"#, bytes.len(), data.len()));
+        accessors.push(format!(r#"{{"bufferView": {}, {acc}}}"#, k + 2));
+        bytes.extend(data);
+        while !bytes.len().is_multiple_of(4) {
+            bytes.push(0);
+        }
+    }
+    let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
+    v["buffers"][0]["byteLength"] = Value::from(bytes.len());
+    v["bufferViews"] = gltf::json::deserialize::from_str(&format!("[{}]", views.join(", "))).expect("json");
+    for (k, acc) in accessors.iter().enumerate() {
+        v["accessors"].as_array_mut().expect("accessors").push(gltf::json::deserialize::from_str(acc).expect("json"));
+        v["meshes"][0]["primitives"][0]["attributes"][extra[k].0] = Value::from(k + 2);
+    }
+    v["meshes"][0]["primitives"][0]["material"] = Value::from(0);
+    v["materials"] = gltf::json::deserialize::from_str(&format!("[{material}]")).expect("json");
+    v["textures"] = gltf::json::deserialize::from_str(r#"[{"source": 0}]"#).expect("json");
+    // A 1x1 PNG (a flat normal).
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbaImage::from_raw(1, 1, vec![128, 128, 255, 255]).expect("image").write_to(&mut png, image::ImageFormat::Png).expect("png");
+    v["images"] = gltf::json::deserialize::from_str(&format!(r#"[{{"uri": "{}"}}]"#, data_uri(png.get_ref()).replace("octet-stream", "png").replace("application", "image"))).expect("json");
+    read(&write_json(&scratch(name), &v))
+}
+
+fn floats(v: &[f32]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+const NORMAL_MAPPED: &str = r#"{"normalTexture": {"index": 0}}"#;
+const UVS: &str = r#""componentType": 5126, "count": 3, "type": "VEC2""#;
+
+#[test]
+fn tangents_and_vertex_colours_are_read_or_made() {
+    let uvs = || ("TEXCOORD_0", UVS, floats(&[0.0, 1.0, 1.0, 1.0, 0.0, 0.0]));
+    let normals = || ("NORMAL", r#""componentType": 5126, "count": 3, "type": "VEC3""#, floats(&[0.0, 0.0, 1.0].repeat(3)));
+    // The file's tangents: normalised, w reduced to its sign.
+    let tangents = ("TANGENT", r#""componentType": 5126, "count": 3, "type": "VEC4""#, floats(&[0.0, 2.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1.0]));
+    let f = with_attributes("tangents", NORMAL_MAPPED, &[normals(), uvs(), tangents]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.meshes[0][0].tangent, [glam::Vec4::new(0.0, 1.0, 0.0, -1.0); 3]);
+    // Without them, MikkTSpace's: u along +x, the image's up +y.
+    let f = with_attributes("mikktspace", NORMAL_MAPPED, &[normals(), uvs()]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.meshes[0][0].tangent, [glam::Vec4::new(1.0, 0.0, 0.0, 1.0); 3]);
+    // Without a normal texture, no tangents at all.
+    let f = with_attributes("no-normal-texture", "{}", &[normals(), uvs()]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.meshes[0][0].tangent, [glam::Vec4::ZERO; 3]);
+    // Colours as normalised bytes (RGBA; alpha not read), and their absence.
+    let colours = ("COLOR_0", r#""componentType": 5121, "normalized": true, "count": 3, "type": "VEC4""#, vec![255, 0, 0, 255, 0, 51, 0, 255, 0, 0, 255, 0]);
+    let f = with_attributes("colours", "{}", &[colours]).unwrap_or_else(|e| panic!("{e}"));
+    let want = [glam::Vec3::X, glam::Vec3::new(0.0, 0.2, 0.0), glam::Vec3::Z];
+    assert!(f.meshes[0][0].color.iter().zip(want).all(|(c, w)| (*c - w).length() < 1e-6), "{:?}", f.meshes[0][0].color);
+    let f = with_attributes("no-colours", "{}", &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.meshes[0][0].color, [glam::Vec3::ONE; 3]);
+}
+
+#[test]
+fn broken_tangents_and_colours_name_their_accessor() {
+    let uvs = || ("TEXCOORD_0", UVS, floats(&[0.0, 1.0, 1.0, 1.0, 0.0, 0.0]));
+    let normals = || ("NORMAL", r#""componentType": 5126, "count": 3, "type": "VEC3""#, floats(&[0.0, 0.0, 1.0].repeat(3)));
+    for (name, attr, want) in [
+        ("tangent-vec3", ("TANGENT", r#""componentType": 5126, "count": 3, "type": "VEC3""#, floats(&[1.0, 0.0, 0.0].repeat(3))), "attributes.TANGENT (accessors[4]): is Vec3"),
+        ("tangent-nan", ("TANGENT", r#""componentType": 5126, "count": 3, "type": "VEC4""#, floats(&[f32::NAN, 0.0, 0.0, 1.0].repeat(3))), "attributes.TANGENT: tangent 0 is not finite"),
+        ("colour-integers", ("COLOR_0", r#""componentType": 5121, "count": 3, "type": "VEC3""#, vec![255; 9]), "attributes.COLOR_0: integer colours must be normalized"),
+        ("colour-count", ("COLOR_0", r#""componentType": 5126, "count": 2, "type": "VEC3""#, floats(&[1.0; 6])), "attributes.COLOR_0: 2 colours for 3 positions"),
+    ] {
+        let e = with_attributes(name, NORMAL_MAPPED, &[normals(), uvs(), attr]).expect_err(name);
+        eprintln!("{name}: {e}");
+        assert!(e.contains("t.gltf") && e.contains(&format!("meshes[0].primitives[0].{want}")), "{name}: {e}");
+    }
 }
