@@ -53,8 +53,13 @@ class GltfMetalRough(mi.BSDF):
         self.metallic = props["metallic"]
         self.roughness = props["roughness"]
         self.mr = props["metallic_roughness"] if props.has_property("metallic_roughness") else None
+        # glTF's baseColorFactor and COLOR_0 (a mesh_attribute texture),
+        # both multiplying the base colour texture.
+        self.factor = mi.Color3f(props["base_factor"]) if props.has_property("base_factor") else None
+        self.vertex_color = props["vertex_color"] if props.has_property("vertex_color") else None
         flags = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
-        if self.mr is not None or not isinstance(self.base, mi.Texture) or self.base.is_spatially_varying():
+        varying = self.vertex_color is not None or self.mr is not None
+        if varying or not isinstance(self.base, mi.Texture) or self.base.is_spatially_varying():
             flags = flags | mi.BSDFFlags.SpatiallyVarying
         self.m_components = [flags]
         self.m_flags = flags
@@ -62,6 +67,10 @@ class GltfMetalRough(mi.BSDF):
     def params(self, si):
         """(base colour, metallic, alpha) at si."""
         base = self.base.eval(si)
+        if self.factor is not None:
+            base = base * self.factor
+        if self.vertex_color is not None:
+            base = base * self.vertex_color.eval(si)
         metallic = mi.Float(self.metallic)
         roughness = mi.Float(self.roughness)
         if self.mr is not None:
