@@ -70,6 +70,20 @@ fn quad_scene_with(dir: &std::path::Path, name: &str, material: &str, texels: &[
     scene
 }
 
+/// The rough white dielectric the normal-texture tests use.
+const BENT_MATERIAL: &str = r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}, "normalTexture": {"index": 0}}"#;
+
+/// Asserts that `img`'s centre is the direct light of a sun toward `l` on
+/// the rough white dielectric with shading normal `n`, seen along +z:
+/// f(v, l) E cos (src/brdf.rs), within 3%.
+fn assert_lit_as_bent(img: &glint::gpu::readback::ImageF32, n: Vec3, l: Vec3, what: &str) {
+    let m = MetalRough { base: Vec3::ONE, metallic: 0.0, roughness: 1.0 };
+    let want = brdf::eval(&m, n, Vec3::Z, l) * n.dot(l).max(0.0);
+    let got = centre_32(img);
+    eprintln!("{what}: {:.4} (want {:.4})", got.x, want.x);
+    assert!((got - want).abs().max_element() <= 0.03 * want.max_element() + 1e-3, "{what}: {got}, want {want}");
+}
+
 #[test]
 fn a_metallic_roughness_texture_multiplies_the_factors() {
     if gpu().is_none() {
@@ -98,8 +112,7 @@ fn a_normal_texture_bends_the_shading_normal_its_way() {
         return;
     }
     let dir = scratch("gltf-normal-texture");
-    let material = r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}, "normalTexture": {"index": 0}}"#;
-    let m = MetalRough { base: Vec3::ONE, metallic: 0.0, roughness: 1.0 };
+    let material = BENT_MATERIAL;
     let decode = |t: [u8; 4]| Vec3::new(t[0] as f32, t[1] as f32, t[2] as f32) / 255.0 * 2.0 - Vec3::ONE;
     // A flat texel changes nothing; one bent toward +x in the image (u)
     // bends the normal toward world +x, one bent toward the image's top
@@ -117,10 +130,7 @@ fn a_normal_texture_bends_the_shading_normal_its_way() {
         for (sun_name, toward) in [("x", Vec3::new(1.0, 0.0, 1.0)), ("y", Vec3::new(0.0, 1.0, 1.0))] {
             let l = toward.normalize();
             let img = path_traced_32(&quad_scene(&dir, &format!("{name}-{sun_name}"), material, &[texel], -l));
-            let want = brdf::eval(&m, n, Vec3::Z, l) * n.dot(l).max(0.0);
-            let got = centre_32(&img);
-            eprintln!("normal bent {name}, sun toward {sun_name}: {:.4} (want {:.4})", got.x, want.x);
-            assert!((got - want).abs().max_element() <= 0.03 * want.max_element() + 1e-3, "normal bent {name}, sun toward {sun_name}: {got}, want {want}");
+            assert_lit_as_bent(&img, n, l, &format!("normal bent {name}, sun toward {sun_name}"));
         }
     }
 }
@@ -131,8 +141,6 @@ fn a_normal_texture_bends_in_the_frame_of_the_files_tangents() {
         return;
     }
     let dir = scratch("gltf-tangents");
-    let material = r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}, "normalTexture": {"index": 0}}"#;
-    let m = MetalRough { base: Vec3::ONE, metallic: 0.0, roughness: 1.0 };
     // A texel bent toward the texture's +x, in a frame whose tangent the
     // file turns to world +y (and whose bitangent, cross(n, t) w with w =
     // -1, to +x): the normal bends toward +y, not along u (+x).
@@ -143,11 +151,8 @@ fn a_normal_texture_bends_in_the_frame_of_the_files_tangents() {
     for (sun_name, toward) in [("x", Vec3::new(1.0, 0.0, 1.0)), ("y", Vec3::new(0.0, 1.0, 1.0))] {
         let l = toward.normalize();
         let n = (Vec3::Y * c.x + Vec3::Z * c.z).normalize();
-        let img = path_traced_32(&quad_scene_with(&dir, &format!("turned-{sun_name}"), material, &[right], -l, &attributes));
-        let want = brdf::eval(&m, n, Vec3::Z, l) * n.dot(l).max(0.0);
-        let got = centre_32(&img);
-        eprintln!("the file's tangent along +y, sun toward {sun_name}: {:.4} (want {:.4})", got.x, want.x);
-        assert!((got - want).abs().max_element() <= 0.03 * want.max_element() + 1e-3, "sun toward {sun_name}: {got}, want {want}");
+        let img = path_traced_32(&quad_scene_with(&dir, &format!("turned-{sun_name}"), BENT_MATERIAL, &[right], -l, &attributes));
+        assert_lit_as_bent(&img, n, l, &format!("the file's tangent along +y, sun toward {sun_name}"));
     }
 }
 
