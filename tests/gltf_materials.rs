@@ -73,6 +73,17 @@ fn quad_scene_with(dir: &std::path::Path, name: &str, material: &str, texels: &[
 /// The rough white dielectric the normal-texture tests use.
 const BENT_MATERIAL: &str = r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}, "normalTexture": {"index": 0}}"#;
 
+/// A normal texture's texel as the normal it encodes.
+fn decode(t: [u8; 4]) -> Vec3 {
+    Vec3::new(t[0] as f32, t[1] as f32, t[2] as f32) / 255.0 * 2.0 - Vec3::ONE
+}
+
+/// The centre pixel of `scene` rendered by `graph` at 32x32, 2 frames.
+fn centre_rendered(scene: &std::path::Path, graph: &str) -> Vec3 {
+    let scene = glint::scene::load(scene).unwrap_or_else(|e| panic!("{e}"));
+    centre_32(&render(gpu().expect("gpu"), scene, &repo().join(graph), (32, 32), 2, None))
+}
+
 /// Asserts that `img`'s centre is the direct light of a sun toward `l` on
 /// the rough white dielectric with shading normal `n`, seen along +z:
 /// f(v, l) E cos (src/brdf.rs), within 3%.
@@ -113,7 +124,6 @@ fn a_normal_texture_bends_the_shading_normal_its_way() {
     }
     let dir = scratch("gltf-normal-texture");
     let material = BENT_MATERIAL;
-    let decode = |t: [u8; 4]| Vec3::new(t[0] as f32, t[1] as f32, t[2] as f32) / 255.0 * 2.0 - Vec3::ONE;
     // A flat texel changes nothing; one bent toward +x in the image (u)
     // bends the normal toward world +x, one bent toward the image's top
     // toward world +y (the image's top is v = 0, at y = 1): each faces its
@@ -145,7 +155,7 @@ fn a_normal_texture_bends_in_the_frame_of_the_files_tangents() {
     // file turns to world +y (and whose bitangent, cross(n, t) w with w =
     // -1, to +x): the normal bends toward +y, not along u (+x).
     let right = [218u8, 128, 218, 255];
-    let c = Vec3::new(218.0, 128.0, 218.0) / 255.0 * 2.0 - Vec3::ONE;
+    let c = decode(right);
     // (glTF ignores a primitive's tangents where it has no normals.)
     let attributes = [("NORMAL", "VEC3", [0.0, 0.0, 1.0].repeat(4)), ("TANGENT", "VEC4", [0.0, 1.0, 0.0, -1.0].repeat(4))];
     for (sun_name, toward) in [("x", Vec3::new(1.0, 0.0, 1.0)), ("y", Vec3::new(0.0, 1.0, 1.0))] {
@@ -167,10 +177,7 @@ fn vertex_colours_multiply_the_base_colour() {
     let coloured = quad_scene_with(&dir, "coloured", r#"{"pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 1}}"#, &[], sun, &[("COLOR_0", "VEC3", tint.repeat(4))]);
     let factor = quad_scene(&dir, "factor", r#"{"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.25, 1], "metallicFactor": 0, "roughnessFactor": 1}}"#, &[], sun);
     for graph in ["passes/pathtrace.ron", "passes/hybrid.ron"] {
-        let seen = |scene: &std::path::Path| {
-            centre_32(&render(gpu().expect("gpu"), glint::scene::load(scene).unwrap_or_else(|e| panic!("{e}")), &repo().join(graph), (32, 32), 2, None))
-        };
-        let (got, want) = (seen(&coloured), seen(&factor));
+        let (got, want) = (centre_rendered(&coloured, graph), centre_rendered(&factor, graph));
         eprintln!("{graph}: vertex colours {got}, base colour factor {want}");
         assert!(want.x > 0.1 && (got - want).abs().max_element() <= 0.005 * want.max_element(), "{graph}: {got} against {want}");
     }
@@ -194,11 +201,7 @@ fn a_single_sided_material_is_seen_from_its_front_only() {
         let behind = dir.join(format!("{name}-behind.ron"));
         std::fs::write(&behind, text.replace("position: (0.0, 0.0, 2.0)", "position: (0.0, 0.0, -2.0)")).expect("write");
         for graph in ["passes/pathtrace.ron", "passes/hybrid.ron"] {
-            let seen = |scene: &std::path::Path| {
-                let img = render(gpu().expect("gpu"), glint::scene::load(scene).unwrap_or_else(|e| panic!("{e}")), &repo().join(graph), (32, 32), 2, None);
-                centre_32(&img)
-            };
-            let (f, b) = (seen(&front), seen(&behind));
+            let (f, b) = (centre_rendered(&front, graph), centre_rendered(&behind, graph));
             eprintln!("{name}-sided, {graph}: from the front {f}, from behind {b}");
             assert!((f - Vec3::new(1.0, 0.5, 0.25)).abs().max_element() < 0.02, "{name}-sided, {graph}: the front shows {f}");
             if from_behind {

@@ -297,19 +297,9 @@ fn stored_material(ids: vec4u, packed: vec4u) -> Material {
 // as glTF's normal textures are written); the tangent made orthogonal to n
 // (Gram-Schmidt); n itself where neither frame exists.
 fn bent_normal(id: u32, slot: u32, scale: f32, wrap_bits: u32, s: SurfaceUv, n: vec3f) -> vec3f {
-    var frame = uv_frame(s, n);
-    if SCENE_VERTEX_TANGENTS {
-        let t01 = scene_texel(scene_uvs, UV_TEXELS * s.prim + 1u).zw;
-        let t2 = scene_texel(scene_uvs, UV_TEXELS * s.prim + 2u).x;
-        if t01.x != 0u && t01.y != 0u && t2 != 0u {
-            let a = unpack_tangent(t01.x);
-            let t = (1.0 - s.bary.x - s.bary.y) * a.xyz + s.bary.x * unpack_tangent(t01.y).xyz + s.bary.y * unpack_tangent(t2).xyz;
-            let tu = t - n * dot(n, t);
-            if dot(tu, tu) > 1e-12 {
-                let tn = normalize(tu);
-                frame = TangentFrame(tn, cross(n, tn) * a.w, true);
-            }
-        }
+    var frame = vertex_frame(s, n);
+    if !frame.ok {
+        frame = uv_frame(s, n);
     }
     if !frame.ok {
         return n;
@@ -317,6 +307,27 @@ fn bent_normal(id: u32, slot: u32, scale: f32, wrap_bits: u32, s: SurfaceUv, n: 
     let c = sample_material(id, slot, 8u, wrap_bits, 12u, s).xyz * 2.0 - 1.0;
     let bent = frame.t * (c.x * scale) + frame.b * (c.y * scale) + n * c.z;
     return select(n, normalize(bent), dot(bent, bent) > 0.0);
+}
+
+// The frame of the triangle's vertex tangents at s around n (none where it
+// has none, or SCENE_VERTEX_TANGENTS is false).
+fn vertex_frame(s: SurfaceUv, n: vec3f) -> TangentFrame {
+    if !SCENE_VERTEX_TANGENTS {
+        return NO_FRAME;
+    }
+    let t01 = scene_texel(scene_uvs, UV_TEXELS * s.prim + 1u).zw;
+    let t2 = scene_texel(scene_uvs, UV_TEXELS * s.prim + 2u).x;
+    if t01.x == 0u || t01.y == 0u || t2 == 0u {
+        return NO_FRAME;
+    }
+    let a = unpack_tangent(t01.x);
+    let t = (1.0 - s.bary.x - s.bary.y) * a.xyz + s.bary.x * unpack_tangent(t01.y).xyz + s.bary.y * unpack_tangent(t2).xyz;
+    let tu = t - n * dot(n, t);
+    if dot(tu, tu) <= 1e-12 {
+        return NO_FRAME;
+    }
+    let tn = normalize(tu);
+    return TangentFrame(tn, cross(n, tn) * a.w, true);
 }
 
 // A tangent, a bitangent toward the normal texture's +y, and whether they
@@ -327,19 +338,20 @@ struct TangentFrame {
     ok: bool,
 }
 
+const NO_FRAME = TangentFrame(vec3f(0.0), vec3f(0.0), false);
+
 // The frame of the triangle's uvs at s around n: +x along u, +y toward the
 // image's top (glTF's v runs down it).
 fn uv_frame(s: SurfaceUv, n: vec3f) -> TangentFrame {
-    let none = TangentFrame(vec3f(0.0), vec3f(0.0), false);
     let det = s.du1.x * s.du2.y - s.du1.y * s.du2.x;
     if abs(det) < 1e-20 {
-        return none;
+        return NO_FRAME;
     }
     let dpdu = (s.e1 * s.du2.y - s.e2 * s.du1.y) / det;
     let dpdv = (s.e2 * s.du1.x - s.e1 * s.du2.x) / det;
     let tu = dpdu - n * dot(n, dpdu);
     if dot(tu, tu) <= 0.0 {
-        return none;
+        return NO_FRAME;
     }
     let t = normalize(tu);
     return TangentFrame(t, cross(n, t) * select(1.0, -1.0, dot(cross(n, t), dpdv) > 0.0), true);

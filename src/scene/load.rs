@@ -310,17 +310,15 @@ impl<'a, 'l> Builder<'a, 'l> {
         features.specular = specular;
         features.emissive = emissive;
         features.metal_rough = metal_rough;
-        let used = |f: &dyn Fn(&MaterialTextures) -> bool| {
-            self.meshes.iter().flat_map(|m| &m.triangles).any(|t| self.material_textures.get(t.material as usize).is_some_and(f))
-        };
         let triangles = || self.meshes.iter().flat_map(|m| &m.triangles);
+        let textures_of = |t: &LocalTriangle| self.material_textures.get(t.material as usize);
+        let used = |f: &dyn Fn(&MaterialTextures) -> bool| triangles().any(|t| textures_of(t).is_some_and(f));
         features.vertex_colors = triangles().any(|t| t.color != [Vec3::ONE; 3]);
-        features.vertex_tangents = triangles()
-            .any(|t| t.tangent != [glam::Vec4::ZERO; 3] && self.material_textures.get(t.material as usize).is_some_and(|m| m.normal.is_some()));
+        features.vertex_tangents = triangles().any(|t| t.tangent != [glam::Vec4::ZERO; 3] && textures_of(t).is_some_and(|m| m.normal.is_some()));
         features.textures =
             features.vertex_colors || used(&|m| m.base_color.is_some() || m.emissive.is_some() || m.metallic_roughness.is_some() || m.normal.is_some());
         features.alpha_mask = used(&|m| m.alpha_mask.is_some());
-        features.single_sided = self.meshes.iter().flat_map(|m| &m.triangles).any(|t| self.materials.get(t.material as usize).is_some_and(MaterialGpu::is_single_sided));
+        features.single_sided = triangles().any(|t| self.materials.get(t.material as usize).is_some_and(MaterialGpu::is_single_sided));
         features.texture_classes = super::texture_classes::layout(&self.textures).layers.map(|n| n > 0);
         features.texture_transforms = used(&|m| {
             let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];

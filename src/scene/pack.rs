@@ -3,7 +3,7 @@
 //! the world and f32 on the GPU, relative to an origin the session keeps
 //! near the camera (camera-relative rendering; docs/ARCHITECTURE.md).
 
-use glam::{DVec3, Vec3, Vec4};
+use glam::{DVec3, Vec3};
 
 use super::features::SceneFeatures;
 use super::gpu_types::{
@@ -109,8 +109,9 @@ impl Scene {
                 if textured {
                     let [a, b, c] = tri.uv.map(|v| v.to_array());
                     // Placements are similarities (others are baked into
-                    // the mesh), so a tangent turns as a normal does.
-                    let tangents = tri.tangent.map(|v| if v == Vec4::ZERO { 0 } else { pack_tangent(t.normal(v.truncate()).extend(v.w)) });
+                    // the mesh), so a tangent turns as a normal does; no
+                    // tangent (zero) stays zero, packed as none.
+                    let tangents = tri.tangent.map(|v| pack_tangent(t.normal(v.truncate()).extend(v.w)));
                     uvs.push(TriangleUvGpu { uv0: a, uv1: b, uv2: c, tangents, colors: tri.color.map(pack_color) });
                 }
                 normals.push(TriangleNormalsGpu {

@@ -90,6 +90,17 @@ def accessor(gltf, blob, index):
     return out
 
 
+def normal_matrix(m):
+    """The cofactor matrix of m's 3x3 part times the sign of its
+    determinant: normals go by it (m's inverse transpose, up to a positive
+    scale), as glint's loader takes them."""
+    a = [row[:3] for row in m[:3]]
+    cof = [[a[(r + 1) % 3][(c + 1) % 3] * a[(r + 2) % 3][(c + 2) % 3] - a[(r + 1) % 3][(c + 2) % 3] * a[(r + 2) % 3][(c + 1) % 3] for c in range(3)] for r in range(3)]
+    det = sum(a[0][c] * cof[0][c] for c in range(3))
+    sign = -1.0 if det < 0 else 1.0
+    return [[sign * cof[r][c] for c in range(3)] + [0.0] for r in range(3)] + [[0.0, 0.0, 0.0, 1.0]], det
+
+
 def apply(m, p, w):
     return [sum(m[r][c] * (p[c] if c < 3 else w) for c in range(4)) for r in range(3)]
 
@@ -111,15 +122,23 @@ class Asset:
     def bitmap(self, texture, raw):
         return {"type": "bitmap", "filename": self.image_path(texture), "raw": raw, "filter_type": "bilinear", "wrap_mode": "repeat"}
 
+    def placed_nodes(self, matrix):
+        """Every node of the default scene with its world matrix, `matrix`
+        placing the file."""
+        stack = [(root, matrix) for root in reversed(self.gltf["scenes"][self.gltf.get("scene", 0)]["nodes"])]
+        while stack:
+            i, parent = stack.pop()
+            node = self.gltf["nodes"][i]
+            m = mat_mul(parent, node_matrix(node))
+            yield node, m
+            stack.extend((c, m) for c in reversed(node.get("children", [])))
+
     def groups(self, matrix):
         """Per material index (None: the default material): the world-space
         vertices (x y z nx ny nz u v r g b) and triangles of every placed
         primitive, strips and fans left out (none in the assets compared)."""
         out = {}
-
-        def visit(i, parent):
-            node = self.gltf["nodes"][i]
-            m = mat_mul(parent, node_matrix(node))
+        for node, m in self.placed_nodes(matrix):
             if "mesh" in node:
                 for prim in self.gltf["meshes"][node["mesh"]]["primitives"]:
                     assert prim.get("mode", 4) == 4, "triangle lists only"
@@ -131,20 +150,15 @@ class Asset:
                     idx = [e[0] for e in accessor(self.gltf, self.blob, prim["indices"])] if "indices" in prim else list(range(len(pos)))
                     vertices, faces = out.setdefault(prim.get("material"), ([], []))
                     first = len(vertices)
+                    nm, det = normal_matrix(m)
                     for p, n, t, c in zip(pos, nrm, uv, col):
-                        wn = apply(m, n, 0.0)
+                        wn = apply(nm, n, 0.0)
                         ln = math.sqrt(sum(x * x for x in wn)) or 1.0
                         vertices.append((*apply(m, p, 1.0), *(x / ln for x in wn), *t, *(min(max(x, 0.0), 1.0) for x in c[:3])))
                     # A mirroring transform turns the winding back (as glint does).
-                    det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
                     for k in range(0, len(idx) - 2, 3):
                         a, b, c = first + idx[k], first + idx[k + 1], first + idx[k + 2]
                         faces.append((a, c, b) if det < 0 else (a, b, c))
-            for c in node.get("children", []):
-                visit(c, m)
-
-        for root in self.gltf["scenes"][self.gltf.get("scene", 0)]["nodes"]:
-            visit(root, matrix)
         return out
 
     def lights(self, matrix):
@@ -152,10 +166,7 @@ class Asset:
         Mitsuba emitters, in glint's radiometric units."""
         table = self.gltf.get("extensions", {}).get("KHR_lights_punctual", {}).get("lights", [])
         out = {}
-
-        def visit(i, parent):
-            node = self.gltf["nodes"][i]
-            m = mat_mul(parent, node_matrix(node))
+        for node, m in self.placed_nodes(matrix):
             ref = node.get("extensions", {}).get("KHR_lights_punctual")
             if ref is not None:
                 light = table[ref["light"]]
@@ -167,11 +178,6 @@ class Asset:
                     out[name] = {"type": "point", "position": apply(m, (0.0, 0.0, 0.0), 1.0), "intensity": {"type": "rgb", "value": value}}
                 else:
                     raise ValueError("spot lights are not converted")
-            for c in node.get("children", []):
-                visit(c, m)
-
-        for root in self.gltf["scenes"][self.gltf.get("scene", 0)]["nodes"]:
-            visit(root, matrix)
         return out
 
     def alpha_mask(self, texture, cutoff, folder):

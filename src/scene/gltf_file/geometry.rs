@@ -45,14 +45,8 @@ pub(crate) fn triangles(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> Result<Vec<Gl
             Some(acc) => {
                 let n_at = format!("{at}.attributes.NORMAL");
                 check(&acc, &[Dimensions::Vec3], &[DataType::F32], buffers, &n_at)?;
-                let n: Vec<Vec3> = reader.read_normals().ok_or_else(|| unreadable(&n_at))?.map(Vec3::from_array).collect();
-                if n.len() != p.len() {
-                    return Err(format!("{n_at}: {} normals for {} positions", n.len(), p.len()));
-                }
-                if let Some(k) = n.iter().position(|v| !v.is_finite()) {
-                    return Err(format!("{n_at}: normal {k} is not finite ({:?})", n[k].to_array()));
-                }
-                Some(n)
+                let n = per_vertex(reader.read_normals().ok_or_else(|| unreadable(&n_at))?.collect(), p.len(), &n_at, ("normal", "normals"))?;
+                Some(n.into_iter().map(Vec3::from_array).collect::<Vec<_>>())
             }
         };
         let uvs = match prim.get(&gltf::Semantic::TexCoords(0)) {
@@ -63,14 +57,9 @@ pub(crate) fn triangles(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> Result<Vec<Gl
                 if acc.data_type() != DataType::F32 && !acc.normalized() {
                     return Err(format!("{t_at}: integer texture coordinates must be normalized (glTF)"));
                 }
-                let t: Vec<Vec2> = reader.read_tex_coords(0).ok_or_else(|| unreadable(&t_at))?.into_f32().map(Vec2::from_array).collect();
-                if t.len() != p.len() {
-                    return Err(format!("{t_at}: {} texture coordinates for {} positions", t.len(), p.len()));
-                }
-                if let Some(k) = t.iter().position(|v| !v.is_finite()) {
-                    return Err(format!("{t_at}: coordinate {k} is not finite ({:?})", t[k].to_array()));
-                }
-                Some(t)
+                let t = reader.read_tex_coords(0).ok_or_else(|| unreadable(&t_at))?.into_f32().collect();
+                let t = per_vertex(t, p.len(), &t_at, ("coordinate", "texture coordinates"))?;
+                Some(t.into_iter().map(Vec2::from_array).collect::<Vec<_>>())
             }
         };
         // glTF: tangents are ignored where normals are generated.
@@ -123,14 +112,8 @@ fn read_tangents<'a, 's, F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>>(pr
     let Some(acc) = prim.get(&gltf::Semantic::Tangents) else { return Ok(None) };
     let t_at = format!("{at}.attributes.TANGENT");
     check(&acc, &[Dimensions::Vec4], &[DataType::F32], buffers, &t_at)?;
-    let t: Vec<Vec4> = reader.read_tangents().ok_or_else(|| unreadable(&t_at))?.map(Vec4::from_array).collect();
-    if t.len() != vertices {
-        return Err(format!("{t_at}: {} tangents for {vertices} positions", t.len()));
-    }
-    if let Some(k) = t.iter().position(|v| !v.is_finite()) {
-        return Err(format!("{t_at}: tangent {k} is not finite ({:?})", t[k].to_array()));
-    }
-    Ok(Some(t.into_iter().map(|v| v.truncate().normalize_or_zero().extend(if v.w < 0.0 { -1.0 } else { 1.0 })).collect()))
+    let t = per_vertex(reader.read_tangents().ok_or_else(|| unreadable(&t_at))?.collect(), vertices, &t_at, ("tangent", "tangents"))?;
+    Ok(Some(t.into_iter().map(Vec4::from_array).map(|v| v.truncate().normalize_or_zero().extend(if v.w < 0.0 { -1.0 } else { 1.0 })).collect()))
 }
 
 /// A primitive's COLOR_0 (None without one): RGB or RGBA of floats or
@@ -143,14 +126,20 @@ fn read_colors<'a, 's, F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>>(prim
     if acc.data_type() != DataType::F32 && !acc.normalized() {
         return Err(format!("{c_at}: integer colours must be normalized (glTF)"));
     }
-    let c: Vec<Vec3> = reader.read_colors(0).ok_or_else(|| unreadable(&c_at))?.into_rgb_f32().map(Vec3::from_array).collect();
-    if c.len() != vertices {
-        return Err(format!("{c_at}: {} colours for {vertices} positions", c.len()));
+    let c = per_vertex(reader.read_colors(0).ok_or_else(|| unreadable(&c_at))?.into_rgb_f32().collect(), vertices, &c_at, ("colour", "colours"))?;
+    Ok(Some(c.into_iter().map(|v| Vec3::from_array(v).clamp(Vec3::ZERO, Vec3::ONE)).collect()))
+}
+
+/// An attribute's `values` at `at`, checked: one for each of `vertices`
+/// positions, every component finite; `(one, many)` name them in errors.
+fn per_vertex<const N: usize>(values: Vec<[f32; N]>, vertices: usize, at: &str, (one, many): (&str, &str)) -> Result<Vec<[f32; N]>, String> {
+    if values.len() != vertices {
+        return Err(format!("{at}: {} {many} for {vertices} positions", values.len()));
     }
-    if let Some(k) = c.iter().position(|v| !v.is_finite()) {
-        return Err(format!("{c_at}: colour {k} is not finite ({:?})", c[k].to_array()));
+    if let Some(k) = values.iter().position(|v| v.iter().any(|x| !x.is_finite())) {
+        return Err(format!("{at}: {one} {k} is not finite ({:?})", values[k]));
     }
-    Ok(Some(c.into_iter().map(|v| v.clamp(Vec3::ZERO, Vec3::ONE)).collect()))
+    Ok(values)
 }
 
 /// The triangles (as vertex index triples, counter-clockwise front faces)

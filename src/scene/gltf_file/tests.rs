@@ -309,12 +309,20 @@ fn floats(v: &[f32]) -> Vec<u8> {
 }
 
 const NORMAL_MAPPED: &str = r#"{"normalTexture": {"index": 0}}"#;
-const UVS: &str = r#""componentType": 5126, "count": 3, "type": "VEC2""#;
+
+/// The triangle's texture coordinates (u along +x, v down), as a
+/// `with_attributes` attribute.
+fn uvs() -> (&'static str, &'static str, Vec<u8>) {
+    ("TEXCOORD_0", r#""componentType": 5126, "count": 3, "type": "VEC2""#, floats(&[0.0, 1.0, 1.0, 1.0, 0.0, 0.0]))
+}
+
+/// The triangle's normals, all +z.
+fn normals() -> (&'static str, &'static str, Vec<u8>) {
+    ("NORMAL", r#""componentType": 5126, "count": 3, "type": "VEC3""#, floats(&[0.0, 0.0, 1.0].repeat(3)))
+}
 
 #[test]
 fn tangents_and_vertex_colours_are_read_or_made() {
-    let uvs = || ("TEXCOORD_0", UVS, floats(&[0.0, 1.0, 1.0, 1.0, 0.0, 0.0]));
-    let normals = || ("NORMAL", r#""componentType": 5126, "count": 3, "type": "VEC3""#, floats(&[0.0, 0.0, 1.0].repeat(3)));
     // The file's tangents: normalised, w reduced to its sign.
     let tangents = ("TANGENT", r#""componentType": 5126, "count": 3, "type": "VEC4""#, floats(&[0.0, 2.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1.0]));
     let f = with_attributes("tangents", NORMAL_MAPPED, &[normals(), uvs(), tangents]).unwrap_or_else(|e| panic!("{e}"));
@@ -336,8 +344,6 @@ fn tangents_and_vertex_colours_are_read_or_made() {
 
 #[test]
 fn broken_tangents_and_colours_name_their_accessor() {
-    let uvs = || ("TEXCOORD_0", UVS, floats(&[0.0, 1.0, 1.0, 1.0, 0.0, 0.0]));
-    let normals = || ("NORMAL", r#""componentType": 5126, "count": 3, "type": "VEC3""#, floats(&[0.0, 0.0, 1.0].repeat(3)));
     for (name, attr, want) in [
         ("tangent-vec3", ("TANGENT", r#""componentType": 5126, "count": 3, "type": "VEC3""#, floats(&[1.0, 0.0, 0.0].repeat(3))), "attributes.TANGENT (accessors[4]): is Vec3"),
         ("tangent-nan", ("TANGENT", r#""componentType": 5126, "count": 3, "type": "VEC4""#, floats(&[f32::NAN, 0.0, 0.0, 1.0].repeat(3))), "attributes.TANGENT: tangent 0 is not finite"),
