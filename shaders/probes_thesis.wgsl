@@ -106,7 +106,8 @@ fn radiance(@builtin(global_invocation_id) id: vec3u) {
     if params.method == 1u {
         l = diffuse_radiance(origin, dir);
     } else {
-        l = trace_path(&flat, origin, dir, params.bounces, params.rr_depth, params.emitters != 0u, &rng);
+        // A texel's cone: s x s texels cover each hemisphere's 2 pi sr.
+        l = trace_path(&flat, origin, dir, sqrt(2.0 * PI) / f32(s), params.bounces, params.rr_depth, params.emitters != 0u, &rng);
         if params.emitters != 0u {
             l += point_lights_in_bucket(origin, id.xy % vec2u(2u * s, s), s);
         }

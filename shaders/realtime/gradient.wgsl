@@ -52,7 +52,7 @@ fn replay(id: vec2u) -> Replay {
     let cam = frame.prev_camera;
     let rd = camera_dir(cam, pixel, rand2(&rng));
     path_primary_direct = vec3f(0.0);
-    return Replay(pixel, trace_path(&flat, cam.origin, rd, params.max_depth, params.rr_depth, true, &rng));
+    return Replay(pixel, trace_path(&flat, cam.origin, rd, last_pixel_spread(), params.max_depth, params.rr_depth, true, &rng));
 }
 
 // Whether this stratum has a gradient to write: only in frames whose

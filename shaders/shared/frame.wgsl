@@ -42,11 +42,16 @@ struct Frame {
     // reset): 0 = no history texture holds anything yet. Camera motion
     // and scene changes do not reset it (see epoch_frames for those).
     history_frames: u32,
+    // What camera-ray cones are narrowed by as samples add up (textures.wgsl,
+    // pixel_spread; cone_scale in src/session/frame_uniform.rs).
+    cone_scale: f32,
     // The graph's probe grid (`probes:` in a graph), relative to the scene
     // origin: probe (0,0,0), the spacing, probes per axis (0: no probes).
     probe_origin: vec3f,
     probe_n: u32,
     probe_spacing: vec3f,
+    // Last frame's cone_scale (for a pass that traces its paths again).
+    prev_cone_scale: f32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

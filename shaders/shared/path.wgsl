@@ -113,8 +113,9 @@ struct PathState {
     cone: vec2f,
 }
 
-fn new_path(ro: vec3f, rd: vec3f) -> PathState {
-    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u, false, vec2f(0.0, pixel_spread()));
+// `spread`: the camera cone's spread angle (pixel_spread).
+fn new_path(ro: vec3f, rd: vec3f, spread: f32) -> PathState {
+    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u, false, vec2f(0.0, spread));
 }
 
 // What a bounce leaves to trace: the next ray from `o` along the state's
@@ -343,9 +344,10 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
 // `first_emission`, a light hit first counts nothing (what the hybrid's
 // light passes shade is left out: indirect light at a probe; emissive
 // surfaces still count, as no light pass samples them).
-// `flat`: the entry point's copy of scene_flat (see trace_pair).
-fn trace_path(flat: ptr<function, FlatScene>, ro_in: vec3f, rd_in: vec3f, max_depth: u32, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> vec3f {
-    var st = new_path(ro_in, rd_in);
+// `flat`: the entry point's copy of scene_flat (see trace_pair); `spread`:
+// the ray cone's spread angle, which textures are read with (new_path).
+fn trace_path(flat: ptr<function, FlatScene>, ro_in: vec3f, rd_in: vec3f, spread: f32, max_depth: u32, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> vec3f {
+    var st = new_path(ro_in, rd_in, spread);
     // The hit of the ray in hand: the camera ray's traced here, each
     // bounce's at the end of the bounce before, with that bounce's last
     // shadow ray (trace_pair: one loop over a flat scene for both).

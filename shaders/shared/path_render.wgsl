@@ -53,7 +53,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     start_blue_noise(pixel, frame.frame_index, rng_key);
     var s = 0u;
     var sum = vec3f(0.0);
-    var st = new_path(frame.camera.origin, camera_dir(frame.camera, pixel, rand2(&rng)));
+    var st = new_path(frame.camera.origin, camera_dir(frame.camera, pixel, rand2(&rng)), pixel_spread());
     // A scene of one mesh and nothing else (ONE_MESH) takes the plain
     // traversal: lavapipe (Mesa 22.3.6) crashed in its queue thread running
     // the tile-entry traversal of a one-mesh scene beside the entry's copy
@@ -111,7 +111,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
                 s = 0u;
                 sum = vec3f(0.0);
             }
-            st = new_path(ro, rd);
+            st = new_path(ro, rd, pixel_spread());
             path_primary_pos = vec4f(0.0);
             path_primary_normal = vec4f(0.0);
             path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
@@ -140,7 +140,7 @@ fn sample_sum(flat: ptr<function, FlatScene>, id: vec2u) -> vec3f {
     var sum = vec3f(0.0);
     for (var s = 0u; s < spp; s++) {
         let rd = camera_dir(frame.camera, id, rand2(&rng));
-        sum += trace_path(flat, frame.camera.origin, rd, params.max_depth, params.rr_depth, true, &rng);
+        sum += trace_path(flat, frame.camera.origin, rd, pixel_spread(), params.max_depth, params.rr_depth, true, &rng);
     }
     return sum;
 }

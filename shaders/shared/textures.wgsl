@@ -41,10 +41,17 @@ const NO_TEXTURE: u32 = 0xffffffffu;
 // uv0 uv1 | uv2 tangent0 tangent1 | tangent2 colour0 colour1 colour2.
 const UV_TEXELS: u32 = 3u;
 
-// The angle one pixel spans (the width of a camera ray's cone per unit
-// of distance).
+// The spread angle of a camera ray's cone (its width per unit of
+// distance): the angle one pixel spans, narrowed as samples add up
+// (frame.cone_scale), since the pixel's jittered samples average over
+// the pixel themselves.
 fn pixel_spread() -> f32 {
-    return 2.0 * frame.camera.tan_half_fov / f32(frame.size.y);
+    return 2.0 * frame.camera.tan_half_fov / f32(frame.size.y) * frame.cone_scale;
+}
+
+// pixel_spread as last frame's camera rays had it.
+fn last_pixel_spread() -> f32 {
+    return 2.0 * frame.prev_camera.tan_half_fov / f32(frame.size.y) * frame.prev_cone_scale;
 }
 
 // Texture `slot` (class << 16 | layer) at uv, `lod_uv` the log2 of the

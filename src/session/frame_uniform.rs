@@ -120,8 +120,10 @@ pub struct FrameGpu {
     /// Neither camera motion nor scene changes reset it, so a denoiser
     /// that judges staleness itself keeps its history while lights move.
     pub history_frames: u32,
-    /// Padding (WGSL layout).
-    pub _pad: f32,
+    /// What camera rays' cones are narrowed by (`cone_scale`): texture
+    /// footprints shrink as samples add up, so a converged image is not
+    /// blurred twice (by the level of detail and by the pixel's samples).
+    pub cone_scale: f32,
     /// The graph's probe grid (see `probes::ProbeGrid`), relative to the
     /// scene's origin like every position: probe (0, 0, 0), the spacing,
     /// probes per axis (0 for a graph without probes).
@@ -130,6 +132,31 @@ pub struct FrameGpu {
     pub probe_n: u32,
     /// Distance between neighbouring probes, per axis.
     pub probe_spacing: [f32; 3],
-    /// Padding (WGSL layout).
-    pub _pad2: u32,
+    /// Last frame's `cone_scale` (a pass that traces last frame's paths
+    /// again reads textures as they were read then).
+    pub prev_cone_scale: f32,
+}
+
+/// The factor camera-ray cones are narrowed by once `accumulated` samples
+/// a pixel are in the history: 1 / sqrt(accumulated + 1), no less than 1/8
+/// (pbrt-v4 scales its ray differentials alike). Texture levels are chosen
+/// for one sample's footprint; the pixel's jittered samples already
+/// average over the pixel, so a converged image wants finer levels.
+pub fn cone_scale(accumulated: u32) -> f32 {
+    (1.0 / ((accumulated as f32) + 1.0).sqrt()).max(0.125)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cone_scale;
+
+    #[test]
+    fn cones_narrow_with_the_samples_taken_down_to_an_eighth() {
+        assert_eq!(cone_scale(0), 1.0);
+        assert_eq!(cone_scale(3), 0.5);
+        assert_eq!(cone_scale(15), 0.25);
+        assert_eq!(cone_scale(63), 0.125);
+        assert_eq!(cone_scale(u32::MAX), 0.125);
+        assert!((1..100).all(|n| cone_scale(n) <= cone_scale(n - 1)), "never widens");
+    }
 }

@@ -122,6 +122,8 @@ struct FrameState {
     accum_count: u32,
     epoch_frames: u32,
     history_frames: u32,
+    /// Last frame's `FrameGpu::cone_scale`.
+    cone_scale: f32,
     /// Last frame's camera (world, f64: re-expressed relative to the
     /// current origin each frame, so a rebase keeps reprojection right) and
     /// scene epoch.
@@ -245,6 +247,8 @@ impl Session {
             }
             None => camera,
         };
+        let cone_scale = frame_uniform::cone_scale(st.accum_count);
+        let prev_cone_scale = if st.last.is_some() { st.cone_scale } else { cone_scale };
         let grid = self.scene.probe_grid(self.executor.schedule.probes);
         // DDGI relocates probes up to 0.45 of a cell from their grid points.
         let probes = grid.map(|g| (g.origin - 0.5 * g.spacing, g.position(g.counts - glam::UVec3::ONE) + 0.5 * g.spacing));
@@ -269,11 +273,11 @@ impl Session {
             exact_one: 1.0,
             offset_scale: self.scene.offset_scale,
             history_frames: st.history_frames,
-            _pad: 0.0,
+            cone_scale,
             probe_origin: grid.map_or([0.0; 3], |g| g.origin.to_array()),
             probe_n: grid.map_or(0, |g| g.counts.x),
             probe_spacing: grid.map_or([0.0; 3], |g| g.spacing.to_array()),
-            _pad2: 0,
+            prev_cone_scale,
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         // A camera bit for bit where it was picks the passes' CAMERA_STILL
@@ -283,6 +287,7 @@ impl Session {
         self.executor.has_history = st.history_frames > 0;
         let timings = self.executor.run_frame_with(&self.gpu, self.timing, epoch, hook);
         st.last = Some((world_camera, epoch));
+        st.cone_scale = cone_scale;
         st.frame_index = st.frame_index.wrapping_add(1);
         st.accum_count = st.accum_count.saturating_add(1);
         st.epoch_frames = st.epoch_frames.saturating_add(1);

@@ -4,7 +4,7 @@ material (positions, normals, uvs and, where the file has them, vertex
 colours), each material as glint reads it (docs/scenes.md, "glTF files"):
 the metallic-roughness BSDF of glint_mitsuba.py with its base colour
 (times the vertex colours), metallic-roughness and normal textures
-(Mitsuba's `normalmap`), emission as an area emitter, alphaMode MASK as
+(glint_mitsuba.py's `glint_normalmap`), emission as an area emitter, alphaMode MASK as
 Mitsuba's `mask` with the base colour texture's alpha thresholded at the
 cutoff (nearest texel, as glint's alpha test reads it), and its
 `KHR_lights_punctual` point and directional lights (candela and lux over
@@ -218,7 +218,7 @@ class Asset:
             bsdf["metallic_roughness"] = self.bitmap(pbr["metallicRoughnessTexture"], True)
         if "normalTexture" in mat:
             assert mat["normalTexture"].get("scale", 1.0) == 1.0, "normal texture scales are not converted"
-            bsdf = {"type": "normalmap", "normalmap": self.bitmap(mat["normalTexture"], True), "bsdf": bsdf}
+            bsdf = {"type": "glint_normalmap", "normalmap": self.bitmap(mat["normalTexture"], True), "bsdf": bsdf}
         bsdf = {"type": "twosided", "material": bsdf}
         if mat.get("alphaMode") in ("MASK", "BLEND") and "baseColorTexture" in pbr:
             cutoff = mat.get("alphaCutoff", 0.5) if mat["alphaMode"] == "MASK" else 0.5

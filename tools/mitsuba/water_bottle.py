@@ -6,9 +6,9 @@ textured asset (docs/scenes.md, "Materials").
 The glTF file goes to Mitsuba through gltf_asset.py (its one node's
 transform, then the RON file's placement): a PLY mesh; its textures
 Mitsuba's own bitmap textures (base colour and emission as sRGB,
-metallic-roughness and normals as data), its normal texture Mitsuba's
-`normalmap` BSDF around the metallic-roughness BSDF of glint_mitsuba.py,
-its emission Mitsuba's area emitter.
+metallic-roughness and normals as data), its normal texture bending the
+metallic-roughness BSDF of glint_mitsuba.py (its `glint_normalmap`), its
+emission Mitsuba's area emitter.
 
     pip install mitsuba        # 3.x; the LLVM variant wants libLLVM
     tools/mitsuba/water_bottle.py --spp 4096 --size 256 --out ref.exr
