@@ -262,6 +262,53 @@ fn alpha_mask_lets_rays_through_where_alpha_is_below_the_cutoff() {
     }
 }
 
+/// Rays cross several alpha-tested layers, shadow rays too: two
+/// double-sided copies of the quad above (holes on the left), one behind
+/// the other, in front of a white wall lit by a light in front of them.
+/// Through the holes the camera sees the wall (not the holes' colours),
+/// lit through the holes of both quads.
+#[test]
+fn camera_and_shadow_rays_pass_through_layers_of_alpha_holes() {
+    if gpu().is_none() {
+        return;
+    }
+    let dir = scratch("gltf-alpha-layers");
+    let quad = textured_quad_with(&dir, 1.0, 10497, &four_colours([51, 204, 102, 255]), r#", "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": true"#).with_extension("gltf");
+    let name = quad.file_name().and_then(|n| n.to_str()).expect("utf-8");
+    let vfov = 2.0 * 0.5f64.atan().to_degrees();
+    let scene = dir.join("layers.ron");
+    std::fs::write(
+        &scene,
+        format!(
+            r#"Scene(camera: Camera(position: (0.0, 0.0, 2.0), target: (0.0, 0.0, 0.0), vfov_deg: {vfov}), background: (0.0, 0.0, 0.0),
+  materials: {{"white": Material(albedo: (0.8, 0.8, 0.8))}},
+  objects: [Quad(vertices: [(-3.0, -3.0, -0.5), (3.0, -3.0, -0.5), (3.0, 3.0, -0.5), (-3.0, 3.0, -0.5)], material: "white"),
+    Gltf(path: "{name}", translate: (0.0, 0.0, 0.25)), Gltf(path: "{name}")],
+  lights: [PointLight(position: (0.0, 0.0, 1.5), intensity: (1.0, 1.0, 1.0))])"#
+        ),
+    )
+    .expect("write");
+    let out = dir.join("lit.exr");
+    let (code, stderr) = glint(&["render", scene.to_str().expect("utf-8"), "--graph", "passes/direct.ron", "--size", "32x32", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(code, 0, "{stderr}");
+    let img = glint::image_io::load(&out).expect("read");
+    // The wall at the point seen through the holes at pixel (x, y): the
+    // point light's irradiance over pi times its albedo.
+    let wall = |x: u32, y: u32| {
+        let d = glam::DVec3::new((x as f64 + 0.5) / 16.0 - 1.0, 1.0 - (y as f64 + 0.5) / 16.0, -2.0).normalize();
+        let p = glam::DVec3::new(0.0, 0.0, 2.0) + d * (2.5 / -d.z);
+        let to_light = glam::DVec3::new(0.0, 0.0, 1.5) - p;
+        0.8 / std::f64::consts::PI * to_light.z / to_light.length().powi(3)
+    };
+    for (x, y) in [(6, 6), (10, 10), (6, 26), (10, 22)] {
+        let got = img.get(x, y);
+        let want = wall(x, y) as f32;
+        assert!(got[..3].iter().all(|&c| (c - want).abs() < 0.1 * want), "pixel ({x}, {y}): the wall through two holes, lit through them: {got:?}, want {want}");
+    }
+    // The opaque half: the front quad's green and white.
+    assert!(img.get(24, 8)[1] > 4.0 * img.get(24, 8)[0], "green at (24, 8): {:?}", img.get(24, 8));
+}
+
 /// The shipped real asset (scenes/water-bottle.ron, CC0): its 4,510
 /// triangles and its four textures, each read as its use says (colour as
 /// sRGB, data as it is), from JPEG and PNG files.

@@ -35,7 +35,7 @@ fn hit_from_origin(row: u32, k: u32, d: vec3f, tmax: f32) -> vec3f {
 // traceable read (the watertight triangle test's constants are unused).
 fn plain_ray(o: vec3f, d: vec3f) -> Ray {
     let no = vec3<bool>(false);
-    return Ray(o, d, vec3f(0.0), no, no, vec3f(0.0), vec3f(0.0));
+    return Ray(o, d, vec3f(0.0), no, no, vec3f(0.0), vec3f(0.0), 0.0);
 }
 
 fn origin_triangle(row: u32, d: vec3f, k: u32, tmax: f32, best: ptr<function, Closest>) {

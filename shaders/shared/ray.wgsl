@@ -19,6 +19,9 @@ struct Ray {
     s: vec3f,
     // f32::MAX on an axis the ray runs parallel to (|d| < 1e-30), else 0.
     slack: vec3f,
+    // Triangle hits count beyond this distance only: 0, or where a
+    // retraced ray's alpha-tested hit let it through (intersect.wgsl).
+    tmin: f32,
 }
 
 fn permute(r: Ray, v: vec3f) -> vec3f {
@@ -49,9 +52,9 @@ fn make_ray(o: vec3f, d: vec3f) -> Ray {
     }
     let k = vec3u(kx, ky, kz);
     let slack = select(vec3f(0.0), vec3f(3.40282347e38), abs(d) < vec3f(1e-30));
-    let r = Ray(o, d, safe_inverse(d), k == vec3u(1u), k == vec3u(2u), vec3f(0.0), slack);
+    let r = Ray(o, d, safe_inverse(d), k == vec3u(1u), k == vec3u(2u), vec3f(0.0), slack, 0.0);
     let pd = permute(r, d);
-    return Ray(o, d, r.inv, r.is1, r.is2, vec3f(pd.x / pd.z, pd.y / pd.z, 1.0 / pd.z), slack);
+    return Ray(o, d, r.inv, r.is1, r.is2, vec3f(pd.x / pd.z, pd.y / pd.z, 1.0 / pd.z), slack, 0.0);
 }
 
 // Entry distance of the box in [0, tmax], or -1 on a miss. On an axis the

@@ -17,8 +17,8 @@ override SCENE_TEXTURES_2048: bool = true;
 // Some texture has a uv transform other than the identity
 // (KHR_texture_transform): without one, no transform is read.
 override SCENE_TEXTURE_TRANSFORMS: bool = true;
-// Some material is alpha-tested (alphaMode MASK): traversal asks
-// alpha_passes of each triangle it would take.
+// Some material is alpha-tested (alphaMode MASK): a ray's closest hit on
+// one is tested by alpha_passes, and traced again beyond it if it fails.
 override SCENE_ALPHA_MASK: bool = true;
 // Some triangle has vertex colours (glTF COLOR_0): they multiply the base
 // colour as a texture does.
@@ -414,6 +414,12 @@ fn alpha_at(slot: u32, uv_in: vec2f, wrap: vec2u) -> f32 {
         alpha = textureLoad(scene_images_2048, texel, layer, 0).a;
     }
     return alpha;
+}
+
+// Whether `material` is alpha-tested: traversal stops a shadow ray early
+// only at a triangle that is not (intersect.wgsl, traverse_from).
+fn alpha_tested(material: u32) -> bool {
+    return SCENE_ALPHA_MASK && bitcast<f32>(material_texel(material, 0u).w) > 0.0;
 }
 
 // Whether triangle `prim` of `material` is there at barycentrics `bary`
