@@ -120,7 +120,8 @@ fn probe_tiles_size_an_atlas_and_graph_check_says_when_passes_run() {
     let text = text
         .replace("\"row\": Texture(format: Rgba32Float, size: Fixed(4, 1))", "\"row\": Texture(format: Rgba32Float, size: ProbeTiles(3, 2))")
         .replace("output: \"row\",", "output: \"row\",\n    probes: (mode: Ddgi, level: 3),");
-    let path = scratch("run-variants").join("tiles.ron");
+    // (Not tiles.ron: the test above writes that one, maybe at the same time.)
+    let path = scratch("run-variants").join("ddgi-tiles.ron");
     std::fs::write(&path, text).expect("write");
     let scene = load_scene("cornell.ron");
     let g = glint::graph::load_and_compile(&path, &repo().join("shaders"), &scene.features, &CompileOptions::default()).unwrap_or_else(|e| panic!("{e}"));
