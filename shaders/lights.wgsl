@@ -48,7 +48,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // One store, the light added only where a lit surface is: CPU drivers
     // run every branch under a lane mask, so an early store for the other
     // pixels would be a second store for all of them.
-    textureStore(lit, id.xy, shade(id.xy, !miss && !is_emissive(m), diffuse_albedo(m), textureLoad(lit_in, id.xy), bitcast<f32>(ids.z)));
+    textureStore(lit, id.xy, shade(id.xy, !miss && !is_emissive(m), m, textureLoad(lit_in, id.xy), bitcast<f32>(ids.z)));
 }
 
 // The first light pass of a graph without an albedo pass: it seeds `lit`
@@ -64,23 +64,35 @@ fn first(@builtin(global_invocation_id) id: vec3u) {
     let miss = ids.y == NO_OBJECT;
     let m = stored_material(ids, textureLoad(gbuf_material, id.xy));
     let lit_surface = !miss && !is_emissive(m);
-    textureStore(lit, id.xy, shade(id.xy, lit_surface, diffuse_albedo(m), vec4f(unlit_radiance(m, miss, textureLoad(gbuf_pos, id.xy).xyz), 1.0), bitcast<f32>(ids.z)));
+    textureStore(lit, id.xy, shade(id.xy, lit_surface, m, vec4f(unlit_radiance(m, miss, textureLoad(gbuf_pos, id.xy).xyz), 1.0), bitcast<f32>(ids.z)));
 }
 
 // `before` plus, on a lit surface (a hit on a non-emitter, known from the
-// material the caller loaded), the light falling on it times base / pi.
+// material m the caller loaded), the light falling on it times its diffuse
+// albedo / pi, and on a metallic-roughness surface its whole BRDF toward
+// point and directional lights.
 // `error`: the hit's error along n (gbuf_id.z).
-fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f, error: f32) -> vec4f {
+fn shade(id: vec2u, lit_surface: bool, m: Material, before: vec4f, error: f32) -> vec4f {
     let p = textureLoad(gbuf_pos, id.xy).xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     let o = offset_by(p, n, error);
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
+    // A metallic-roughness surface's GGX lobe toward the lights no
+    // reflected ray can meet (points, spots, directional lights): the
+    // thesis's specular share, which the reflection passes shade, takes
+    // in only what rays hit (sphere lights, the sky).
+    let metal_rough = is_metal_rough(m);
+    let mr = as_metal_rough(m);
+    let v = normalize(frame.camera.origin - p);
+    var highlight = vec3f(0.0);
+    let diffuse = shaded_diffuse(m, n, v);
     if single_point() {
         // One light, shaded as a point: one shadow ray, at the top level
         // of the shader (the written-out sweep pays there), traced from
         // the light on flat scenes (shared/origins.wgsl).
         var l = load_light(0u);
+        let reflected = l.kind == LIGHT_SPHERE || l.kind == LIGHT_ENVIRONMENT;
         if l.kind == LIGHT_SPHERE {
             l = sphere_as_point(l);
         }
@@ -89,9 +101,14 @@ fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f, error: f32) -
         let blocked = trace_any_from_light(l.position, o, s.dir, shadow_ray_length(s));
         let lit = s.valid && cos_n > 0.0 && !blocked;
         irradiance = select(vec3f(0.0), sample_irradiance(l, p, s, cos_n, params.falloff, params.falloff_k), lit);
+        if metal_rough && !reflected {
+            highlight = mr_specular(mr, n, v, s.dir) * irradiance;
+        }
     }
     for (var i = 0u; i < select(light_count(), 0u, single_point()); i++) {
         var l = load_light(i);
+        // (Before a sphere in point mode becomes a point.)
+        let reflected = l.kind == LIGHT_SPHERE || l.kind == LIGHT_ENVIRONMENT;
         if l.kind != LIGHT_SPHERE && !POINT_LIGHTS {
             continue;
         }
@@ -104,8 +121,13 @@ fn shade(id: vec2u, lit_surface: bool, base: vec3f, before: vec4f, error: f32) -
             }
         }
         let count = select(max(params.samples, 1u), 1u, l.kind != LIGHT_SPHERE);
-        irradiance += light_irradiance(i, l, p, n, o, count, params.falloff, params.falloff_k, &rng);
+        let e = light_irradiance(i, l, p, n, o, count, params.falloff, params.falloff_k, &rng);
+        irradiance += e;
+        if metal_rough && !reflected {
+            let to_light = select(normalize(l.position - o), l.position, l.kind == LIGHT_DIRECTIONAL);
+            highlight += mr_specular(mr, n, v, to_light) * e;
+        }
     }
-    let radiance = finite_or_zero(base / PI * irradiance);
+    let radiance = finite_or_zero(diffuse / PI * irradiance + highlight);
     return select(before, vec4f(before.rgb + radiance, 1.0), lit_surface);
 }

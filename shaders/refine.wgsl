@@ -49,9 +49,9 @@ fn listed(@builtin(global_invocation_id) gid: vec3u) {
     let pos = textureLoad(gbuf_pos, id.xy);
     let p = pos.xyz;
     let n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
-    // A lit surface (main listed no other): its albedo is the material's,
-    // what the albedo pass would have stored.
-    let base = diffuse_albedo(stored_material(ids, textureLoad(gbuf_material, id.xy)));
+    // A lit surface (main listed no other): its diffuse albedo as the
+    // light passes shade it (their estimate is merged with this one).
+    let base = shaded_diffuse(stored_material(ids, textureLoad(gbuf_material, id.xy)), n, normalize(frame.camera.origin - p));
     let o = offset_by(p, n, bitcast<f32>(ids.z));
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var direct = vec3f(0.0);

@@ -66,6 +66,14 @@ fn mr_view_cos(n: vec3f, v: vec3f) -> f32 {
 
 // f(v, l), not times the cosine; 0 below the surface.
 fn mr_eval(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> vec3f {
+    if dot(n, l) <= 0.0 {
+        return vec3f(0.0);
+    }
+    return (vec3f(1.0) - schlick(mr_f0(m), mr_view_cos(n, v))) * mr_c_diff(m) / PI + mr_specular(m, n, v, l);
+}
+
+// The GGX lobe of f(v, l) alone, F(v.h) D V; 0 below the surface.
+fn mr_specular(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> vec3f {
     let nl = dot(n, l);
     if nl <= 0.0 {
         return vec3f(0.0);
@@ -76,8 +84,7 @@ fn mr_eval(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> vec3f {
     let a = mr_alpha(m);
     let a2 = a * a;
     let f = schlick(mr_f0(m), max(dot(v, h), 0.0));
-    let spec = f * (ggx_d(dot(n, h), a2) * smith_v(nl, nv, a2));
-    return (vec3f(1.0) - schlick(mr_f0(m), nv)) * mr_c_diff(m) / PI + spec;
+    return f * (ggx_d(dot(n, h), a2) * smith_v(nl, nv, a2));
 }
 
 fn mr_luminance(c: vec3f) -> f32 {

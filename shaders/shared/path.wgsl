@@ -74,11 +74,6 @@ fn start_blue_noise(pixel: vec2u, frame_index: u32, rng_key: u32) {
 // (shaders/realtime/gradient.wgsl).
 const PATH_RENDER_SALT: u32 = 0x70617468u;
 
-// A metallic-roughness material's BRDF inputs.
-fn as_metal_rough(m: Material) -> MetalRough {
-    return MetalRough(m.albedo, m.metallic, m.roughness);
-}
-
 // a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
 // the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
 // overflowed to inf / inf = NaN, and the path sample was dropped.

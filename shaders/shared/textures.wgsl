@@ -37,6 +37,23 @@ override SCENE_VERTEX_TANGENTS: bool = true;
 
 const NO_TEXTURE: u32 = 0xffffffffu;
 
+// A metallic-roughness material's BRDF inputs (shared/brdf.wgsl).
+fn as_metal_rough(m: Material) -> MetalRough {
+    return MetalRough(m.albedo, m.metallic, m.roughness);
+}
+
+// The diffuse albedo the light passes shade m with at normal n, seen from
+// v: a metallic-roughness surface's as its BRDF weighs it, by what the
+// coat lets through toward the viewer, (1 - F(n.v)) c_diff; a thesis
+// material's, its albedo less its specular share.
+fn shaded_diffuse(m: Material, n: vec3f, v: vec3f) -> vec3f {
+    if is_metal_rough(m) {
+        let mr = as_metal_rough(m);
+        return (vec3f(1.0) - schlick(mr_f0(mr), mr_view_cos(n, v))) * mr_c_diff(mr);
+    }
+    return diffuse_albedo(m);
+}
+
 // Texels of `scene_uvs` a triangle (src/scene/gpu_types.rs, TriangleUvGpu):
 // uv0 uv1 | uv2 tangent0 tangent1 | tangent2 colour0 colour1 colour2.
 const UV_TEXELS: u32 = 3u;
