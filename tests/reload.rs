@@ -28,7 +28,7 @@ use glint::session::{Session, SessionOptions};
 const SIZE: (u32, u32) = (32, 32);
 
 /// The line of shaders/lights.wgsl the tests edit (without its `;`).
-const RADIANCE: &str = "    let radiance = finite_or_zero(base / PI * irradiance)";
+const RADIANCE: &str = "    let radiance = finite_or_zero(diffuse / PI * irradiance + highlight)";
 
 // -- helpers -----------------------------------------------------------------
 
@@ -70,7 +70,7 @@ fn lights_scaled(original: &str, scale: &str) -> String {
 
 /// lights.wgsl with a type error (a vec3f into an f32) on the radiance line.
 fn lights_broken(original: &str) -> String {
-    original.replacen(&format!("{RADIANCE};"), "    let radiance: f32 = finite_or_zero(base / PI * irradiance);", 1)
+    original.replacen(&format!("{RADIANCE};"), "    let radiance: f32 = finite_or_zero(diffuse / PI * irradiance + highlight);", 1)
 }
 
 fn open(gpu: &Gpu, ws: &Path, scene: &str, graph: &str, compile: CompileOptions) -> Session {

@@ -158,49 +158,57 @@ class GlintNormalMap(mi.BSDF):
     toward the image's top (glTF's v runs down it), z the normal, in the
     triangle's uv frame with its handedness. Mitsuba's own `normalmap`
     takes y as n x s whichever way v runs, which bends mirrored uvs (about
-    half of a typical game asset's triangles) the wrong way. Where the
-    bent normal faces away from the viewer, the unbent one shades, as in
-    glint (facing, shared/intersect.wgsl)."""
+    half of a typical game asset's triangles) the wrong way. Both sides
+    are shaded (no `twosided` around it): seen from the back, the whole
+    frame turns over and the bent normal with it, as glTF says of
+    double-sided materials (a `twosided` mirrors the view instead, which
+    turns the bend's tangent part the other way). Where the bent normal
+    faces away from the viewer, the unbent one shades, as in glint
+    (facing, shared/intersect.wgsl)."""
 
     def __init__(self, props):
         mi.BSDF.__init__(self, props)
         self.normalmap = props["normalmap"]
         self.nested = props["bsdf"]
-        self.m_components = [self.nested.flags(i) for i in range(self.nested.component_count())]
-        self.m_flags = self.nested.flags()
+        self.m_components = [self.nested.flags(i) | mi.BSDFFlags.BackSide for i in range(self.nested.component_count())]
+        self.m_flags = self.nested.flags() | mi.BSDFFlags.BackSide
 
     def perturbed(self, si, active):
-        """si with its shading frame around the bent normal."""
+        """si with its shading frame around the bent normal on the
+        viewer's side."""
         c = self.normalmap.eval(si, active) * 2.0 - 1.0
         n = si.sh_frame.n
         s = dr.normalize(si.dp_du - n * dr.dot(n, si.dp_du))
         b = dr.cross(n, s)
         b = dr.select(dr.dot(b, si.dp_dv) > 0.0, -b, b)
         bent = s * c.x + b * c.y + n * c.z
-        wi = si.to_world(si.wi)
         ok = (dr.dot(bent, bent) > 0.0) & (dr.dot(si.dp_du, si.dp_du) > 0.0)
         bent = dr.select(ok, dr.normalize(bent), n)
-        bent = dr.select(dr.dot(bent, wi) > 0.0, bent, n)
+        side = dr.select(mi.Frame3f.cos_theta(si.wi) < 0.0, -1.0, 1.0)
+        wi = si.to_world(si.wi)
+        bent = dr.select(dr.dot(bent * side, wi) > 0.0, bent * side, n * side)
         p = mi.SurfaceInteraction3f(si)
         p.sh_frame = mi.Frame3f(bent)
         p.wi = p.to_local(wi)
         return p
 
+    @staticmethod
+    def same_side(si, wo):
+        return mi.Frame3f.cos_theta(si.wi) * mi.Frame3f.cos_theta(wo) > 0.0
+
     def eval(self, ctx, si, wo, active=True):
         p = self.perturbed(si, active)
-        ok = active & (mi.Frame3f.cos_theta(wo) > 0.0)
-        return self.nested.eval(ctx, p, p.to_local(si.to_world(wo)), ok)
+        return self.nested.eval(ctx, p, p.to_local(si.to_world(wo)), active & self.same_side(si, wo))
 
     def pdf(self, ctx, si, wo, active=True):
         p = self.perturbed(si, active)
-        ok = active & (mi.Frame3f.cos_theta(wo) > 0.0)
-        return self.nested.pdf(ctx, p, p.to_local(si.to_world(wo)), ok)
+        return self.nested.pdf(ctx, p, p.to_local(si.to_world(wo)), active & self.same_side(si, wo))
 
     def sample(self, ctx, si, sample1, sample2, active=True):
         p = self.perturbed(si, active)
         bs, weight = self.nested.sample(ctx, p, sample1, sample2, active)
         bs.wo = si.to_local(p.to_world(bs.wo))
-        return bs, dr.select(mi.Frame3f.cos_theta(bs.wo) > 0.0, weight, 0.0)
+        return bs, dr.select(self.same_side(si, bs.wo), weight, 0.0)
 
     def traverse(self, callback):
         pass

@@ -217,9 +217,11 @@ class Asset:
         if "metallicRoughnessTexture" in pbr:
             bsdf["metallic_roughness"] = self.bitmap(pbr["metallicRoughnessTexture"], True)
         if "normalTexture" in mat:
+            # (It shades both sides itself.)
             assert mat["normalTexture"].get("scale", 1.0) == 1.0, "normal texture scales are not converted"
             bsdf = {"type": "glint_normalmap", "normalmap": self.bitmap(mat["normalTexture"], True), "bsdf": bsdf}
-        bsdf = {"type": "twosided", "material": bsdf}
+        else:
+            bsdf = {"type": "twosided", "material": bsdf}
         if mat.get("alphaMode") in ("MASK", "BLEND") and "baseColorTexture" in pbr:
             cutoff = mat.get("alphaCutoff", 0.5) if mat["alphaMode"] == "MASK" else 0.5
             bsdf = {"type": "mask", "opacity": self.alpha_mask(pbr["baseColorTexture"], cutoff / factor[3], folder), "material": bsdf}
