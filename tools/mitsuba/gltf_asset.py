@@ -10,8 +10,8 @@ cutoff (nearest texel, as glint's alpha test reads it), and its
 `KHR_lights_punctual` point and directional lights (candela and lux over
 683 lm/W).
 
-What differs from glint on purpose: Mitsuba's normal maps bend in each
-triangle's own uv frame, glint's in MikkTSpace's smooth per-vertex
+What differs from glint on purpose: normal textures bend here in each
+triangle's own uv frame, in glint in MikkTSpace's smooth per-vertex
 tangents; single-sided materials are shaded two-sided here (glint lets
 rays through their backs), so an asset with open single-sided surfaces is
 not compared this way.
