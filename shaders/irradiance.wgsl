@@ -153,7 +153,7 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
         if m.specular <= 0.0 {
             break;
         }
-        atten *= m.specular * m.albedo;
+        atten *= specular_tint(m, -dot(dir, n));
         dir = reflect(dir, n);
         origin = next;
     }

@@ -59,7 +59,7 @@ fn diffuse_radiance(o: vec3f, d: vec3f) -> vec3f {
             return atten * m.albedo;
         }
         let ng = facing(hit, dir).ng;
-        atten *= m.specular * m.albedo;
+        atten *= specular_tint(m, -dot(dir, ng));
         dir = reflect(dir, ng);
         origin = offset_ray(hit.position, ng, hit.error);
     }

@@ -103,8 +103,9 @@ fn reflect_begin(id: vec3u) -> Reflection {
     r.p = pos.xyz;
     r.n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     r.error = bitcast<f32>(ids.z);
-    r.dir = reflect(normalize(r.p - frame.camera.origin), r.n);
-    r.atten = m0.specular * m0.albedo;
+    let view = normalize(r.p - frame.camera.origin);
+    r.dir = reflect(view, r.n);
+    r.atten = specular_tint(m0, -dot(view, r.n));
     r.reused = 0.0;
     r.depth = 0u;
     r.done = false;
@@ -171,7 +172,7 @@ fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
         (*r).done = true;
         return;
     }
-    (*r).atten *= m.specular * m.albedo;
+    (*r).atten *= specular_tint(m, -dot((*r).dir, (*r).hit_n));
     (*r).p = (*r).hit_p;
     (*r).n = (*r).hit_n;
     (*r).error = (*r).hit_error;

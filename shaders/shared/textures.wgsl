@@ -42,6 +42,20 @@ fn as_metal_rough(m: Material) -> MetalRough {
     return MetalRough(m.albedo, m.metallic, m.roughness);
 }
 
+// What a surface's mirror reflection is multiplied by in the hybrid
+// graphs' reflection passes (and the thesis probes' mirror bounces), seen
+// at cosine cos_v: a thesis material's albedo times its specular share; a
+// metallic-roughness one's Fresnel reflectance F(n.v) (Schlick), white for
+// a dielectric, whose coat reflects untinted, and the base colour for a
+// metal. The light passes weigh its diffuse lobe by 1 - F(n.v)
+// (shaded_diffuse), so the two add up as the smooth BRDF's do.
+fn specular_tint(m: Material, cos_v: f32) -> vec3f {
+    if is_metal_rough(m) {
+        return schlick(mr_f0(as_metal_rough(m)), max(cos_v, 1e-4));
+    }
+    return m.specular * m.albedo;
+}
+
 // The diffuse albedo the light passes shade m with at normal n, seen from
 // v: a metallic-roughness surface's as its BRDF weighs it, by what the
 // coat lets through toward the viewer, (1 - F(n.v)) c_diff; a thesis
