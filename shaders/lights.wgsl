@@ -79,9 +79,8 @@ fn shade(id: vec2u, lit_surface: bool, m: Material, before: vec4f, error: f32) -
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
     // A metallic-roughness surface's GGX lobe toward the lights no
-    // reflected ray can meet (points, spots, directional lights): the
-    // thesis's specular share, which the reflection passes shade, takes
-    // in only what rays hit (sphere lights, the sky).
+    // reflected ray can meet (points, spots, directional lights); what
+    // rays do hit (sphere lights, the sky) the reflection passes reflect.
     let metal_rough = is_metal_rough(m);
     let mr = as_metal_rough(m);
     let v = normalize(frame.camera.origin - p);
