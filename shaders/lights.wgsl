@@ -79,8 +79,9 @@ fn shade(id: vec2u, lit_surface: bool, m: Material, before: vec4f, error: f32) -
     var rng = rng_for(id.xy, frame.frame_index, SALT, frame.seed);
     var irradiance = vec3f(0.0); // sum of L cos / pdf, or I cos / d^2
     // A metallic-roughness surface's GGX lobe toward the lights no
-    // reflected ray can meet (points, spots, directional lights); what
-    // rays do hit (sphere lights, the sky) the reflection passes reflect.
+    // reflected ray can meet (points, spots, directional lights); the
+    // reflection passes take the lobe toward what rays do meet (sphere
+    // lights, the sky, the scene), by light and lobe sampling.
     let metal_rough = is_metal_rough(m);
     let mr = as_metal_rough(m);
     let v = normalize(frame.camera.origin - p);

@@ -4,8 +4,10 @@
 // 1 - cos = ONE_MINUS_COS, row 2 the raw draws, row 3 sample_glossy of
 // MIRROR about NORMAL with ROUGHNESS, row 4 mr_sample of MR seen from
 // VIEW (a lobe choice, then two numbers), row 5 mr_eval and mr_pdf at row
-// 4's direction. The test draws the same with the Rust mirrors
-// (src/sampling.rs, src/brdf.rs) and compares.
+// 4's direction, row 6 mr_sample_specular's direction (xyz) and the
+// luminance of mr_specular_weight (w) from the two numbers after row 4's.
+// The test draws the same with the Rust mirrors (src/sampling.rs,
+// src/brdf.rs) and compares.
 #import frame
 #import rng
 #import sampling
@@ -32,7 +34,11 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         let m = MetalRough(vec3f(0.9, 0.6, 0.3), 0.5, 0.4);
         let u_lobe = rand_f32(&rng);
         let l = mr_sample(m, NORMAL, VIEW, u_lobe, rand2(&rng));
-        let out = select(vec4f(l, 1.0), vec4f(mr_eval(m, NORMAL, VIEW, l), mr_pdf(m, NORMAL, VIEW, l)), id.y == 5u);
+        var out = select(vec4f(l, 1.0), vec4f(mr_eval(m, NORMAL, VIEW, l), mr_pdf(m, NORMAL, VIEW, l)), id.y == 5u);
+        if id.y == 6u {
+            let s = mr_sample_specular(m, NORMAL, VIEW, rand2(&rng));
+            out = vec4f(s, mr_luminance(mr_specular_weight(m, NORMAL, VIEW, s)));
+        }
         textureStore(samples, id.xy, out);
         return;
     }

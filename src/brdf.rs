@@ -151,14 +151,36 @@ pub fn sample_vndf(v: Vec3, alpha: f32, u: Vec2) -> Vec3 {
 /// reflected) if `u_lobe` < specular_probability, else the cosine.
 pub fn sample(m: &MetalRough, n: Vec3, v: Vec3, u_lobe: f32, u: Vec2) -> Vec3 {
     if u_lobe < specular_probability(m, view_cos(n, v)) {
-        let frame = basis(n);
-        let local_v = frame.transpose() * v;
-        let local_v = Vec3::new(local_v.x, local_v.y, local_v.z.max(1e-4)).normalize();
-        let h = frame * sample_vndf(local_v, m.alpha(), u);
-        (2.0 * v.dot(h) * h - v).normalize()
+        sample_specular(m, n, v, u)
     } else {
         sample_cosine(n, u)
     }
+}
+
+/// A direction from the specular lobe alone: a visible normal for `v`,
+/// `v` reflected about it (may lie below the surface).
+pub fn sample_specular(m: &MetalRough, n: Vec3, v: Vec3, u: Vec2) -> Vec3 {
+    let frame = basis(n);
+    let local_v = frame.transpose() * v;
+    let local_v = Vec3::new(local_v.x, local_v.y, local_v.z.max(1e-4)).normalize();
+    let h = frame * sample_vndf(local_v, m.alpha(), u);
+    (2.0 * v.dot(h) * h - v).normalize()
+}
+
+/// What a direction `l` drawn by `sample_specular` carries: the specular
+/// lobe's f cos / pdf, F(v.h) G2(v, l) / G1(v) (D cancels, so it holds for
+/// near-mirrors too); 0 below the surface. Its mean over draws is the
+/// lobe's albedo at `v`.
+pub fn specular_weight(m: &MetalRough, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
+    let nl = n.dot(l);
+    if nl <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let nv = view_cos(n, v);
+    let h = (v + l).normalize_or_zero();
+    let a2 = m.alpha() * m.alpha();
+    let g2_over_g1 = smith_v(nl, nv, a2) * 4.0 * nl * nv / smith_g1(nv, a2);
+    schlick(m.f0(), v.dot(h).max(0.0)) * g2_over_g1
 }
 
 /// The specular lobe's solid-angle pdf of `l`: D_v(h) / (4 v.h) =

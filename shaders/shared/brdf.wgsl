@@ -120,13 +120,36 @@ fn sample_vndf(v: vec3f, alpha: f32, u: vec2f) -> vec3f {
 // ends there, as the lobe's masking says).
 fn mr_sample(m: MetalRough, n: vec3f, v: vec3f, u_lobe: f32, u: vec2f) -> vec3f {
     if u_lobe < mr_specular_probability(m, mr_view_cos(n, v)) {
-        let frame = basis(n);
-        let lv = transpose(frame) * v;
-        let local_v = normalize(vec3f(lv.x, lv.y, max(lv.z, 1e-4)));
-        let h = frame * sample_vndf(local_v, mr_alpha(m), u);
-        return normalize(2.0 * dot(v, h) * h - v);
+        return mr_sample_specular(m, n, v, u);
     }
     return sample_cosine(n, u);
+}
+
+// A direction from the specular lobe alone: v reflected about one of its
+// visible normals (may lie below the surface).
+fn mr_sample_specular(m: MetalRough, n: vec3f, v: vec3f, u: vec2f) -> vec3f {
+    let frame = basis(n);
+    let lv = transpose(frame) * v;
+    let local_v = normalize(vec3f(lv.x, lv.y, max(lv.z, 1e-4)));
+    let h = frame * sample_vndf(local_v, mr_alpha(m), u);
+    return normalize(2.0 * dot(v, h) * h - v);
+}
+
+// What l, drawn by mr_sample_specular, carries: the lobe's f cos / pdf,
+// F(v.h) G2(v, l) / G1(v) (D cancels: it holds for near-mirrors too); 0
+// below the surface. Its mean over draws is the lobe's albedo at v.
+fn mr_specular_weight(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> vec3f {
+    let nl = dot(n, l);
+    if nl <= 0.0 {
+        return vec3f(0.0);
+    }
+    let nv = mr_view_cos(n, v);
+    let hv = v + l;
+    let h = select(vec3f(0.0), normalize(hv), dot(hv, hv) > 0.0);
+    let a = mr_alpha(m);
+    let a2 = a * a;
+    let g2_over_g1 = smith_v(nl, nv, a2) * 4.0 * nl * nv / smith_g1(nv, a2);
+    return schlick(mr_f0(m), max(dot(v, h), 0.0)) * g2_over_g1;
 }
 
 fn mr_specular_pdf(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> f32 {

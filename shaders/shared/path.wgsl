@@ -74,17 +74,6 @@ fn start_blue_noise(pixel: vec2u, frame_index: u32, rng_key: u32) {
 // (shaders/realtime/gradient.wgsl).
 const PATH_RENDER_SALT: u32 = 0x70617468u;
 
-// a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
-// the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
-// overflowed to inf / inf = NaN, and the path sample was dropped.
-fn power_heuristic(a: f32, b: f32) -> f32 {
-    if !(a > 0.0) {
-        return 0.0;
-    }
-    let r = b / a;
-    return 1.0 / (1.0 + r * r);
-}
-
 // A path in flight: the ray in hand's direction, what it carries, and
 // what the bounce before left for multiple importance sampling.
 struct PathState {

@@ -34,18 +34,60 @@ fn screen_pixel(x: vec3f) -> vec2i {
     return vec2i(px.xy);
 }
 
-// Direct light at a hit (diffuse share), as the lights pass computes it,
-// plus `extra` irradiance (an importer's indirect light).
-fn shade(p: vec3f, n: vec3f, error: f32, m: Material, extra: vec3f, rng: ptr<function, Rng>) -> vec3f {
+// Direct light at a hit seen from v, as the lights pass computes it: the
+// diffuse lobe's, plus `extra` irradiance (an importer's indirect light),
+// and a metallic-roughness surface's GGX lobe toward the lights no
+// reflected ray can meet (the ray reflected on from the hit meets the
+// others).
+fn shade(p: vec3f, n: vec3f, v: vec3f, error: f32, m: Material, extra: vec3f, rng: ptr<function, Rng>) -> vec3f {
     let o = offset_by(p, n, error);
+    let metal_rough = is_metal_rough(m);
     var e = vec3f(0.0);
+    var highlight = vec3f(0.0);
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
         let count = select(max(params.samples, 1u), 1u, l.kind != LIGHT_SPHERE);
-        e += light_irradiance(i, l, p, n, o, count, 0u, 0.0, rng);
+        let li = light_irradiance(i, l, p, n, o, count, 0u, 0.0, rng);
+        e += li;
+        if metal_rough && !hittable(l) {
+            let to_light = select(normalize(l.position - o), l.position, l.kind == LIGHT_DIRECTIONAL);
+            highlight += mr_specular(as_metal_rough(m), n, v, to_light) * li;
+        }
     }
     e += extra;
-    return finite_or_zero(m.albedo * (1.0 - m.specular) / PI * e);
+    return finite_or_zero(shaded_diffuse(m, n, v) / PI * e + highlight);
+}
+
+// Whether reflected rays can meet light l: a sphere's surface, the sky.
+fn hittable(l: Light) -> bool {
+    return l.kind == LIGHT_SPHERE || l.kind == LIGHT_ENVIRONMENT;
+}
+
+// A metallic-roughness surface's GGX lobe lit by the lights its reflected
+// rays can meet, by light sampling: one sample a light, weighed against
+// the lobe's own sampling (specular_bounce) by the power heuristic, so a
+// small bright sphere light is found by light samples on a rough surface
+// and by the reflected ray on a smooth one, with no fireflies from either.
+// p (offset to o) faces v with shading normal n.
+fn specular_light(mr: MetalRough, p: vec3f, n: vec3f, o: vec3f, v: vec3f, rng: ptr<function, Rng>) -> vec3f {
+    var sum = vec3f(0.0);
+    if !SCENE_AREA_LIGHTS && !SCENE_ENVIRONMENT {
+        return sum;
+    }
+    for (var i = 0u; i < light_count(); i++) {
+        let l = load_light(i);
+        if !hittable(l) {
+            continue;
+        }
+        let s = sample_light(l, o, rand2(rng));
+        let cos_n = dot(n, s.dir);
+        if !s.valid || cos_n <= 0.0 || !light_visible(i, o, s) {
+            continue;
+        }
+        let w = power_heuristic(s.pdf, mr_specular_pdf(mr, n, v, s.dir));
+        sum += mr_specular(mr, n, v, s.dir) * sample_irradiance(l, p, s, cos_n, 0u, 0.0) * w;
+    }
+    return sum;
 }
 
 // One pixel's reflection, walked a hit at a time so the importer can add
@@ -73,8 +115,49 @@ struct Reflection {
     hit_m: u32,
     // The hit's material with its textures read (hit_m's).
     hit_mat: Material,
-    // The ray cone's width so far (textures' level of detail).
+    // The pdf the ray's direction was drawn with from a GGX lobe (0: a
+    // mirror's), to weigh a light it meets against light sampling.
+    bsdf_pdf: f32,
+    // The ray cone's width so far and its spread angle (textures' level
+    // of detail; wider after a rough bounce, as the path tracer's).
     cone: f32,
+    spread: f32,
+}
+
+// Where a specular surface sends a reflected ray, and what the ray's light
+// is multiplied by: a thesis material's mirror direction and tint
+// (specular_tint); a metallic-roughness one's direction drawn from its GGX
+// lobe's visible normals (Heitz 2018), weighed by f cos / pdf
+// (mr_specular_weight), so that over the frames the graph accumulates, a
+// rough surface's reflection is as blurred and as bright as its lobe. `n`
+// faces the ray, which arrives along `dir`.
+// `light`: what light sampling adds there (specular_light), for the ray's
+// weight so far to multiply; `pdf`: the direction's (0 for a mirror).
+struct SpecularBounce {
+    dir: vec3f,
+    weight: vec3f,
+    pdf: f32,
+    light: vec3f,
+}
+
+// p (offset to o) is the surface point, for the light samples.
+fn specular_bounce(m: Material, p: vec3f, n: vec3f, o: vec3f, dir: vec3f, rng: ptr<function, Rng>) -> SpecularBounce {
+    if is_metal_rough(m) {
+        let mr = as_metal_rough(m);
+        let light = specular_light(mr, p, n, o, -dir, rng);
+        let l = mr_sample_specular(mr, n, -dir, rand2(rng));
+        return SpecularBounce(l, mr_specular_weight(mr, n, -dir, l), mr_specular_pdf(mr, n, -dir, l), light);
+    }
+    return SpecularBounce(reflect(dir, n), specular_tint(m, -dot(dir, n)), 0.0, vec3f(0.0));
+}
+
+// The ray cone's spread angle after a bounce off m: a rough lobe's width
+// at the least (alpha), as the path tracer widens it.
+fn spread_after(m: Material, spread: f32) -> f32 {
+    if is_metal_rough(m) {
+        return max(spread, mr_alpha(as_metal_rough(m)));
+    }
+    return spread;
 }
 
 // The pass's own entry, per texel: lists the texels whose surface
@@ -100,15 +183,20 @@ fn reflect_begin(id: vec3u) -> Reflection {
     let pos = textureLoad(gbuf_pos, id.xy);
     let m0 = stored_material(ids, textureLoad(gbuf_material, id.xy));
     r.cone = pos.w * pixel_spread();
+    r.spread = spread_after(m0, pixel_spread());
     r.p = pos.xyz;
     r.n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     r.error = bitcast<f32>(ids.z);
-    let view = normalize(r.p - frame.camera.origin);
-    r.dir = reflect(view, r.n);
-    r.atten = specular_tint(m0, -dot(view, r.n));
+    var rng = r.rng;
+    let bounce = specular_bounce(m0, r.p, r.n, offset_by(r.p, r.n, r.error), normalize(r.p - frame.camera.origin), &rng);
+    r.rng = rng;
+    r.color += bounce.light;
+    r.dir = bounce.dir;
+    r.atten = bounce.weight;
+    r.bsdf_pdf = bounce.pdf;
+    r.done = all(r.atten == vec3f(0.0));
     r.reused = 0.0;
     r.depth = 0u;
-    r.done = false;
     return r;
 }
 
@@ -118,14 +206,23 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
     while !(*r).done && (*r).depth < params.max_depth {
         let hit = trace_closest(offset_by((*r).p, (*r).n, (*r).error), (*r).dir, 3.0e38);
         if !hit_found(hit) {
-            (*r).color += (*r).atten * sky((*r).dir);
+            var w = 1.0;
+            if SCENE_ENVIRONMENT && (*r).bsdf_pdf > 0.0 {
+                let l = env_light();
+                w = power_heuristic((*r).bsdf_pdf, env_pdf_at(l, env_uv(l, (*r).dir), (*r).dir));
+            }
+            (*r).color += (*r).atten * sky((*r).dir) * w;
             (*r).done = true;
             return false;
         }
-        (*r).cone += hit.t * pixel_spread();
+        (*r).cone += hit.t * (*r).spread;
         let m = material_at(hit.material, hit.prim, hit.position, (*r).dir, (*r).cone);
         if is_emissive(m) {
-            (*r).color += (*r).atten * m.emission;
+            var w = 1.0;
+            if hit.light >= 0 && (*r).bsdf_pdf > 0.0 {
+                w = power_heuristic((*r).bsdf_pdf, light_pdf(load_light(u32(hit.light)), (*r).p));
+            }
+            (*r).color += (*r).atten * m.emission * w;
             (*r).done = true;
             return false;
         }
@@ -172,18 +269,25 @@ fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
         (*r).done = true;
         return;
     }
-    (*r).atten *= specular_tint(m, -dot((*r).dir, (*r).hit_n));
+    var rng = (*r).rng;
+    let bounce = specular_bounce(m, (*r).hit_p, (*r).hit_n, offset_by((*r).hit_p, (*r).hit_n, (*r).hit_error), (*r).dir, &rng);
+    (*r).rng = rng;
+    (*r).color += (*r).atten * bounce.light;
+    (*r).atten *= bounce.weight;
+    (*r).bsdf_pdf = bounce.pdf;
+    (*r).spread = spread_after(m, (*r).spread);
     (*r).p = (*r).hit_p;
     (*r).n = (*r).hit_n;
     (*r).error = (*r).hit_error;
-    (*r).dir = reflect((*r).dir, (*r).hit_n);
+    (*r).dir = bounce.dir;
     (*r).depth += 1u;
+    (*r).done = all((*r).atten == vec3f(0.0));
 }
 
 // Shades the hit `reflect_next` stopped at, with `extra` irradiance.
 fn reflect_shade(r: ptr<function, Reflection>, extra: vec3f) {
     var rng = (*r).rng;
-    let diffuse = shade((*r).hit_p, (*r).hit_n, (*r).hit_error, (*r).hit_mat, extra, &rng);
+    let diffuse = shade((*r).hit_p, (*r).hit_n, -(*r).dir, (*r).hit_error, (*r).hit_mat, extra, &rng);
     (*r).rng = rng;
     reflect_advance(r, diffuse);
 }

@@ -70,3 +70,15 @@ fn max3(v: vec3f) -> f32 {
 fn finite_or_zero(v: vec3f) -> vec3f {
     return select(vec3f(0.0), v, all_finite(v));
 }
+
+// Multiple importance sampling's power heuristic (Veach),
+// a^2 / (a^2 + b^2) for pdfs a, b >= 0, written with their ratio: squaring
+// the pdf of a light too small for f32 (about 1e36 at the cone_pdf floor)
+// overflowed to inf / inf = NaN, and the path sample was dropped.
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    let r = b / a;
+    return 1.0 / (1.0 + r * r);
+}

@@ -42,13 +42,15 @@ fn as_metal_rough(m: Material) -> MetalRough {
     return MetalRough(m.albedo, m.metallic, m.roughness);
 }
 
-// What a surface's mirror reflection is multiplied by in the hybrid
-// graphs' reflection passes (and the thesis probes' mirror bounces), seen
-// at cosine cos_v: a thesis material's albedo times its specular share; a
-// metallic-roughness one's Fresnel reflectance F(n.v) (Schlick), white for
-// a dielectric, whose coat reflects untinted, and the base colour for a
-// metal. The light passes weigh its diffuse lobe by 1 - F(n.v)
-// (shaded_diffuse), so the two add up as the smooth BRDF's do.
+// What a surface's mirror reflection is multiplied by, seen at cosine
+// cos_v: in the hybrid graphs' reflection passes a thesis material's
+// (albedo times its specular share); in the thesis probes' mirror bounces
+// also a metallic-roughness one's, its Fresnel reflectance F(n.v)
+// (Schlick): white for a dielectric, whose coat reflects untinted, the
+// base colour for a metal (the reflection passes draw such a surface's
+// rays from its GGX lobe instead: shared/reflect.wgsl). The light passes
+// weigh its diffuse lobe by 1 - F(n.v) (shaded_diffuse), so the two add
+// up as the smooth BRDF's do.
 fn specular_tint(m: Material, cos_v: f32) -> vec3f {
     if is_metal_rough(m) {
         return schlick(mr_f0(as_metal_rough(m)), max(cos_v, 1e-4));

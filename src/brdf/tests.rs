@@ -312,3 +312,36 @@ fn the_specular_lobe_is_reciprocal_and_zero_below() {
     let r = 2.0 * a.dot(n) * n - a;
     assert!(eval(&smooth, n, a, r).is_finite() && pdf(&smooth, n, a, r).is_finite());
 }
+
+/// The specular lobe sampled alone (the hybrid graphs' glossy reflections):
+/// `specular_weight` is f cos / pdf of what `sample_specular` draws, and its
+/// mean over draws is the lobe's albedo (a metal's, which has no diffuse
+/// lobe, by the quadrature above; a near-mirror's, whose D the quadrature
+/// cannot resolve, is Schlick's F(n.v)).
+#[test]
+fn the_specular_lobe_alone_carries_its_albedo() {
+    let n = Vec3::new(0.0, 0.6, 0.8);
+    for roughness in [0.05, 0.3, 0.7, 1.0] {
+        let m = MetalRough { base: Vec3::new(0.95, 0.64, 0.54), metallic: 1.0, roughness };
+        for deg in [0.0, 45.0, 80.0] {
+            let v = view_at(n, deg);
+            let count = 200_000u32;
+            let mut sum = Vec3::ZERO;
+            for i in 0..count {
+                let mut rng = Rng::new((i & 0xffff, i >> 16), 0, 0x5be, 5);
+                let l = sample_specular(&m, n, v, rng.next2());
+                let w = specular_weight(&m, n, v, l);
+                if i < 64 && w != Vec3::ZERO {
+                    // Pointwise: the weight is f cos / pdf (where D is no spike).
+                    let direct = eval(&m, n, v, l) * n.dot(l) / specular_pdf(&m, n, v, l);
+                    assert!((w - direct).abs().max_element() < 2e-3 * direct.max_element().max(1.0), "roughness {roughness}, {deg} deg: {w} != {direct}");
+                }
+                sum += w;
+            }
+            let mean = sum / count as f32;
+            let want = if roughness < 0.1 { schlick(m.f0(), n.dot(v)) } else { albedo(&m, n, v) };
+            let err = ((mean - want) / want).abs().max_element();
+            assert!(err < 0.01, "roughness {roughness}, view {deg} deg: sampled albedo {mean} against {want} ({err:.4})");
+        }
+    }
+}
