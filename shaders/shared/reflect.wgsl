@@ -21,6 +21,10 @@ struct Params {
 @group(0) @binding(7) var gbuf_material: texture_storage_2d<rgba32uint, read>;
 
 const SALT: u32 = 0x7265666cu;
+// A GGX lobe narrower than this alpha (roughness 0.1) finds lights by its
+// reflected ray alone: light samples would add a shadow ray for weights
+// near 0.
+const LIGHT_SAMPLED_ALPHA: f32 = 0.01;
 // Screen-space reuse accepts a G-buffer point this close to the hit's
 // tangent plane, as a share of the hit's distance from the camera.
 const REUSE_PLANE_TOL: f32 = 0.01;
@@ -132,7 +136,9 @@ struct Reflection {
 // rough surface's reflection is as blurred and as bright as its lobe. `n`
 // faces the ray, which arrives along `dir`.
 // `light`: what light sampling adds there (specular_light), for the ray's
-// weight so far to multiply; `pdf`: the direction's (0 for a mirror).
+// weight so far to multiply; `pdf`: the direction's, for the power
+// heuristic where a light was also sampled, else 0 (the ray's light then
+// counts whole).
 struct SpecularBounce {
     dir: vec3f,
     weight: vec3f,
@@ -140,13 +146,21 @@ struct SpecularBounce {
     light: vec3f,
 }
 
-// p (offset to o) is the surface point, for the light samples.
-fn specular_bounce(m: Material, p: vec3f, n: vec3f, o: vec3f, dir: vec3f, rng: ptr<function, Rng>) -> SpecularBounce {
+// p (offset to o) is the surface point, for the light samples, which are
+// taken where `sample_lights` (the first surface: a shadow ray a hittable
+// light at every bounce cost 1.6x the frame on a room whose every surface
+// is metallic-roughness) and the lobe is wide enough for them to help.
+fn specular_bounce(m: Material, p: vec3f, n: vec3f, o: vec3f, dir: vec3f, sample_lights: bool, rng: ptr<function, Rng>) -> SpecularBounce {
     if is_metal_rough(m) {
         let mr = as_metal_rough(m);
-        let light = specular_light(mr, p, n, o, -dir, rng);
+        var light = vec3f(0.0);
+        let lights = sample_lights && mr_alpha(mr) > LIGHT_SAMPLED_ALPHA;
+        if lights {
+            light = specular_light(mr, p, n, o, -dir, rng);
+        }
         let l = mr_sample_specular(mr, n, -dir, rand2(rng));
-        return SpecularBounce(l, mr_specular_weight(mr, n, -dir, l), mr_specular_pdf(mr, n, -dir, l), light);
+        let pdf = select(0.0, mr_specular_pdf(mr, n, -dir, l), lights);
+        return SpecularBounce(l, mr_specular_weight(mr, n, -dir, l), pdf, light);
     }
     return SpecularBounce(reflect(dir, n), specular_tint(m, -dot(dir, n)), 0.0, vec3f(0.0));
 }
@@ -188,7 +202,7 @@ fn reflect_begin(id: vec3u) -> Reflection {
     r.n = normalize(textureLoad(gbuf_normal, id.xy).xyz);
     r.error = bitcast<f32>(ids.z);
     var rng = r.rng;
-    let bounce = specular_bounce(m0, r.p, r.n, offset_by(r.p, r.n, r.error), normalize(r.p - frame.camera.origin), &rng);
+    let bounce = specular_bounce(m0, r.p, r.n, offset_by(r.p, r.n, r.error), normalize(r.p - frame.camera.origin), true, &rng);
     r.rng = rng;
     r.color += bounce.light;
     r.dir = bounce.dir;
@@ -265,15 +279,28 @@ fn reflect_next(r: ptr<function, Reflection>) -> bool {
 fn reflect_advance(r: ptr<function, Reflection>, diffuse: vec3f) {
     (*r).color += (*r).atten * diffuse;
     let m = (*r).hit_mat;
-    if m.specular <= 0.0 {
+    // (No ray left to trace past the last depth.)
+    if m.specular <= 0.0 || (*r).depth + 1u >= params.max_depth {
         (*r).done = true;
         return;
     }
     var rng = (*r).rng;
-    let bounce = specular_bounce(m, (*r).hit_p, (*r).hit_n, offset_by((*r).hit_p, (*r).hit_n, (*r).hit_error), (*r).dir, &rng);
-    (*r).rng = rng;
+    let bounce = specular_bounce(m, (*r).hit_p, (*r).hit_n, offset_by((*r).hit_p, (*r).hit_n, (*r).hit_error), (*r).dir, false, &rng);
     (*r).color += (*r).atten * bounce.light;
     (*r).atten *= bounce.weight;
+    if is_metal_rough(m) {
+        // Russian roulette: a ray reflected twice off metallic-roughness
+        // surfaces goes on with the probability of what it still carries
+        // (a dielectric's coat reflects a few percent), its weight divided
+        // by it, so the mean stays and most such rays are not traced.
+        let q = min(max((*r).atten.x, max((*r).atten.y, (*r).atten.z)), 1.0);
+        if rand_f32(&rng) >= q {
+            (*r).atten = vec3f(0.0);
+        } else {
+            (*r).atten /= q;
+        }
+    }
+    (*r).rng = rng;
     (*r).bsdf_pdf = bounce.pdf;
     (*r).spread = spread_after(m, (*r).spread);
     (*r).p = (*r).hit_p;
