@@ -209,6 +209,14 @@ fn trade_measures_each_graph_against_the_reference() {
     let (code, stdout, err) = glint(&args);
     assert_eq!(code, 0, "{err}");
     assert!(stdout.contains("reference: cached"), "{stdout}");
+    // Another graph's reference (direct light only) is not that one: it is
+    // rendered, and keyed by its graph.
+    let mut direct = args.to_vec();
+    direct.extend(["--reference-graph", "passes/direct.ron"]);
+    let (code, stdout, err) = glint(&direct);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("stale") && stdout.contains("passes/direct.ron on scenes/cornell.ron"), "{stdout}");
+    assert!(std::fs::read_to_string(dir.join("reference.ron")).unwrap().contains("direct.ron"));
 }
 
 #[test]

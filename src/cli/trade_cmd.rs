@@ -58,9 +58,9 @@ pub struct TradeArgs {
     /// With --animate: compare every K-th frame.
     #[arg(long, default_value_t = 4, requires = "animate")]
     pub reference_every: u32,
-    /// With --animate: the graph rendering each instant's reference
-    /// (default: pathtrace.ron beside the first graph).
-    #[arg(long, requires = "animate")]
+    /// The graph rendering the reference, still or (with --animate) each
+    /// instant's (default: pathtrace.ron beside the first graph).
+    #[arg(long, conflicts_with = "reference")]
     pub reference_graph: Option<PathBuf>,
     #[arg(long)]
     pub out: PathBuf,
@@ -109,7 +109,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
             img
         }
         None => {
-            let pathtracer = pathtracer_beside(&args.graphs);
+            let pathtracer = args.reference_graph.clone().unwrap_or_else(|| pathtracer_beside(&args.graphs));
             let spec = ReferenceSpec { scene: &args.scene, size: args.size, frames: args.reference_frames, dir: &args.out, stem: "reference", pathtracer: &pathtracer, time: 0.0, camera: None };
             cached_reference(&gpu, &spec)?
         }

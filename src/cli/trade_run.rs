@@ -228,7 +228,7 @@ pub(crate) fn cached_reference(gpu: &Gpu, spec: &ReferenceSpec) -> Result<ImageF
             return Ok(img);
         }
     } else if cached.is_some() {
-        out!("reference: the cached one is stale (scene, size, frames or engine changed); rendering again");
+        out!("reference: the cached one is stale (scene, graph, size, frames or engine changed); rendering again");
     }
     let mut session = session_for(gpu, scene, spec.pathtracer, spec.size, 7, &Setting::plain())?;
     let bar = indicatif::ProgressBar::new(u64::from(spec.frames));
