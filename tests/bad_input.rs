@@ -341,7 +341,7 @@ fn quiet_surprises_are_said() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out_cmd.stdout);
-    assert!(stdout.contains("(1024x6)"), "{stdout}");
+    assert!(stdout.contains("(1024x7)"), "{stdout}");
     // --hitdist only writes EXR or PFM, and says so before benchmarking.
     let (code, err) = glint(&["bench", "rays", "--obj", "scenes/meshes/knot.obj", "--camera", "0,0,5,0,0,0,45", "--size", "16x16", "--hitdist", "x.txt"]);
     assert_eq!(code, 2, "{err}");
