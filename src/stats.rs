@@ -3,14 +3,17 @@
 use crate::gpu::readback::ImageF32;
 
 /// The reflections pass's per-pixel record: 1 reused from screen space,
-/// 0 traced and shaded, -1 not specular.
+/// 0 traced and shaded, 0.5 no ray traced (a rough lobe's Russian
+/// roulette), -1 not specular.
 pub const REFLECT_REUSE: &str = "reflect_reuse";
 
-/// Reflection rays served from screen space, of all specular pixels.
+/// Reflection rays served from screen space, of the rays traced.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReuseShare {
     /// Pixels served from screen space.
     pub reused: usize,
+    /// Pixels whose reflection ray was traced (reused or shaded).
+    pub traced: usize,
     /// Specular pixels.
     pub specular: usize,
 }
@@ -20,12 +23,13 @@ impl ReuseShare {
     pub fn of(img: &ImageF32) -> ReuseShare {
         let specular = img.data.iter().filter(|p| p[0] >= 0.0).count();
         let reused = img.data.iter().filter(|p| p[0] == 1.0).count();
-        ReuseShare { reused, specular }
+        let traced = img.data.iter().filter(|p| p[0] == 1.0 || p[0] == 0.0).count();
+        ReuseShare { reused, traced, specular }
     }
 
-    /// The share in [0, 1]; 0 without specular pixels.
+    /// The share of traced rays reused, in [0, 1]; 0 without any.
     pub fn share(&self) -> f64 {
-        if self.specular == 0 { 0.0 } else { self.reused as f64 / self.specular as f64 }
+        if self.traced == 0 { 0.0 } else { self.reused as f64 / self.traced as f64 }
     }
 }
 
@@ -34,13 +38,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn share_counts_only_specular_pixels() {
-        let mut img = ImageF32::new(4, 1);
-        for (p, v) in img.data.iter_mut().zip([-1.0, 0.0, 1.0, 1.0]) {
+    fn share_counts_only_traced_rays() {
+        let mut img = ImageF32::new(5, 1);
+        for (p, v) in img.data.iter_mut().zip([-1.0, 0.0, 1.0, 1.0, 0.5]) {
             p[0] = v;
         }
         let s = ReuseShare::of(&img);
-        assert_eq!((s.reused, s.specular), (2, 3));
+        assert_eq!((s.reused, s.traced, s.specular), (2, 3, 4));
         assert!((s.share() - 2.0 / 3.0).abs() < 1e-12);
         assert_eq!(ReuseShare::of(&ImageF32::new(2, 2)).share(), 0.0);
     }

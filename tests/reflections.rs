@@ -32,7 +32,9 @@ fn reuse_matches_tracing_and_is_used() {
     assert!(flip.mean < 0.05, "reuse changes the picture: FLIP mean {}", flip.mean);
 
     let share = render(gpu, load_scene("cornell.ron"), &hybrid_with_reuse(1, TEST), size, 1, Some("reflect_reuse"));
-    let ReuseShare { reused, specular } = ReuseShare::of(&share);
+    let ReuseShare { reused, traced, specular } = ReuseShare::of(&share);
+    // (Cornell's mirror sphere is a thesis mirror: every ray is traced.)
+    assert_eq!(traced, specular);
     assert!(specular > 100, "the mirror sphere covers {specular} pixels");
     assert!(reused > 0, "no reflection ray was served from screen space");
     eprintln!("reflection rays served from screen space: {reused} of {specular} ({:.1} %)", 100.0 * reused as f64 / specular as f64);
@@ -48,7 +50,7 @@ fn reuse_matches_tracing_and_is_used() {
     let mut r = session(gpu, scene, &compiled, size, 1);
     r.frame(0.0);
     let kept = r.read_resource(REFLECT_REUSE).expect("kept").unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(ReuseShare::of(&kept), ReuseShare { reused, specular });
+    assert_eq!(ReuseShare::of(&kept), ReuseShare { reused, traced, specular });
     assert!(r.read_resource("gbuf_id").is_none(), "only kept resources can be read");
 }
 

@@ -5,7 +5,8 @@
   --opaque       every alphaMode MASK or BLEND material made opaque;
   --no-textures  also every texture and COLOR_0 left out, each base colour
                  texture replaced by its mean colour (linear) in
-                 baseColorFactor.
+                 baseColorFactor, each metallic-roughness texture by its
+                 means in roughnessFactor and metallicFactor.
 
 The output refers to the input's buffers and images where they are.
 
@@ -42,6 +43,12 @@ def main():
             mean = Image.open(os.path.join(src, image["uri"])).convert("RGB").resize((1, 1), Image.BOX).getpixel((0, 0))
             factor = pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])
             pbr["baseColorFactor"] = [f * (c / 255.0) ** 2.2 for f, c in zip(factor, mean)] + [1.0]
+        if "metallicRoughnessTexture" in pbr:
+            # Linear data: roughness in green, metalness in blue.
+            image = d["images"][d["textures"][pbr["metallicRoughnessTexture"]["index"]]["source"]]
+            mean = Image.open(os.path.join(src, image["uri"])).convert("RGB").resize((1, 1), Image.BOX).getpixel((0, 0))
+            pbr["roughnessFactor"] = pbr.get("roughnessFactor", 1.0) * mean[1] / 255.0
+            pbr["metallicFactor"] = pbr.get("metallicFactor", 1.0) * mean[2] / 255.0
         for key in ("baseColorTexture", "metallicRoughnessTexture"):
             pbr.pop(key, None)
         for key in ("normalTexture", "emissiveTexture", "occlusionTexture"):

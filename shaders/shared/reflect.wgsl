@@ -25,6 +25,9 @@ const SALT: u32 = 0x7265666cu;
 // reflected ray alone: light samples would add a shadow ray for weights
 // near 0.
 const LIGHT_SAMPLED_ALPHA: f32 = 0.01;
+// A rough lobe's first reflected ray is traced with probability RR_GAIN
+// times its weight (at most 1): a quarter of a weight's worth of rays.
+const RR_GAIN: f32 = 4.0;
 // Screen-space reuse accepts a G-buffer point this close to the hit's
 // tangent plane, as a share of the hit's distance from the camera.
 const REUSE_PLANE_TOL: f32 = 0.01;
@@ -108,7 +111,8 @@ struct Reflection {
     dir: vec3f,
     atten: vec3f,
     color: vec3f,
-    // 1 reused, 0 shaded, -1 not specular (reflect_reuse).
+    // 1 reused, 0 shaded, 0.5 not traced (roulette), -1 not specular
+    // (reflect_reuse).
     reused: f32,
     depth: u32,
     done: bool,
@@ -203,13 +207,25 @@ fn reflect_begin(id: vec3u) -> Reflection {
     r.error = bitcast<f32>(ids.z);
     var rng = r.rng;
     let bounce = specular_bounce(m0, r.p, r.n, offset_by(r.p, r.n, r.error), normalize(r.p - frame.camera.origin), true, &rng);
-    r.rng = rng;
     r.color += bounce.light;
     r.dir = bounce.dir;
     r.atten = bounce.weight;
     r.bsdf_pdf = bounce.pdf;
+    if is_metal_rough(m0) && mr_alpha(as_metal_rough(m0)) > LIGHT_SAMPLED_ALPHA {
+        // Russian roulette on a rough lobe's ray: it goes on with
+        // probability RR_GAIN times what it carries, its weight divided by
+        // that, so a rough dielectric, whose coat reflects a few percent,
+        // traces a fraction of its rays (sharp reflections trace all).
+        let q = min(RR_GAIN * max(r.atten.x, max(r.atten.y, r.atten.z)), 1.0);
+        if rand_f32(&rng) >= q {
+            r.atten = vec3f(0.0);
+        } else {
+            r.atten /= q;
+        }
+    }
+    r.rng = rng;
     r.done = all(r.atten == vec3f(0.0));
-    r.reused = 0.0;
+    r.reused = select(0.0, 0.5, r.done);
     r.depth = 0u;
     return r;
 }

@@ -249,9 +249,10 @@ fn print_summary(args: &RenderArgs, session: &Session, frames: &FrameLoop, secon
     if let Some(Ok(reuse)) = session.read_resource(REFLECT_REUSE) {
         let s = ReuseShare::of(&reuse);
         out!(
-            "  reflections: {:.1}% of reflection rays reused from screen space ({} of {} specular pixels, last frame)",
+            "  reflections: {:.1}% of reflection rays reused from screen space ({} of {} traced, of {} specular pixels, last frame)",
             s.share() * 100.0,
             s.reused,
+            s.traced,
             s.specular
         );
     }
