@@ -100,15 +100,18 @@ fn view_cos(n: Vec3, v: Vec3) -> f32 {
     n.dot(v).max(1e-4)
 }
 
+/// What the specular lobe's terms share for view `v` and light `l`: n.l,
+/// the view's cosine, the half vector and alpha^2; None below the surface.
+fn lobe_at(m: &MetalRough, n: Vec3, v: Vec3, l: Vec3) -> Option<(f32, f32, Vec3, f32)> {
+    let nl = n.dot(l);
+    (nl > 0.0).then(|| (nl, view_cos(n, v), (v + l).normalize_or_zero(), m.alpha() * m.alpha()))
+}
+
 /// f(v, l): the BRDF (not times the cosine); 0 below the surface.
 pub fn eval(m: &MetalRough, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
-    let nl = n.dot(l);
-    if nl <= 0.0 {
+    let Some((nl, nv, h, a2)) = lobe_at(m, n, v, l) else {
         return Vec3::ZERO;
-    }
-    let nv = view_cos(n, v);
-    let h = (v + l).normalize_or_zero();
-    let a2 = m.alpha() * m.alpha();
+    };
     let f = schlick(m.f0(), v.dot(h).max(0.0));
     let spec = f * (ggx_d(n.dot(h), a2) * smith_v(nl, nv, a2));
     (Vec3::ONE - schlick(m.f0(), nv)) * m.c_diff() / PI + spec
@@ -172,13 +175,9 @@ pub fn sample_specular(m: &MetalRough, n: Vec3, v: Vec3, u: Vec2) -> Vec3 {
 /// near-mirrors too); 0 below the surface. Its mean over draws is the
 /// lobe's albedo at `v`.
 pub fn specular_weight(m: &MetalRough, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
-    let nl = n.dot(l);
-    if nl <= 0.0 {
+    let Some((nl, nv, h, a2)) = lobe_at(m, n, v, l) else {
         return Vec3::ZERO;
-    }
-    let nv = view_cos(n, v);
-    let h = (v + l).normalize_or_zero();
-    let a2 = m.alpha() * m.alpha();
+    };
     let g2_over_g1 = smith_v(nl, nv, a2) * 4.0 * nl * nv / smith_g1(nv, a2);
     schlick(m.f0(), v.dot(h).max(0.0)) * g2_over_g1
 }

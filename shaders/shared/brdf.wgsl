@@ -72,19 +72,29 @@ fn mr_eval(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> vec3f {
     return (vec3f(1.0) - schlick(mr_f0(m), mr_view_cos(n, v))) * mr_c_diff(m) / PI + mr_specular(m, n, v, l);
 }
 
+// What the specular lobe's terms share for view v and light l: the
+// cosines, the half vector h and alpha^2 (nl <= 0: l is below).
+struct LobeAt {
+    nl: f32,
+    nv: f32,
+    h: vec3f,
+    a2: f32,
+}
+
+fn lobe_at(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> LobeAt {
+    let hv = v + l;
+    let a = mr_alpha(m);
+    return LobeAt(dot(n, l), mr_view_cos(n, v), select(vec3f(0.0), normalize(hv), dot(hv, hv) > 0.0), a * a);
+}
+
 // The GGX lobe of f(v, l) alone, F(v.h) D V; 0 below the surface.
 fn mr_specular(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> vec3f {
-    let nl = dot(n, l);
-    if nl <= 0.0 {
+    let s = lobe_at(m, n, v, l);
+    if s.nl <= 0.0 {
         return vec3f(0.0);
     }
-    let nv = mr_view_cos(n, v);
-    let hv = v + l;
-    let h = select(vec3f(0.0), normalize(hv), dot(hv, hv) > 0.0);
-    let a = mr_alpha(m);
-    let a2 = a * a;
-    let f = schlick(mr_f0(m), max(dot(v, h), 0.0));
-    return f * (ggx_d(dot(n, h), a2) * smith_v(nl, nv, a2));
+    let f = schlick(mr_f0(m), max(dot(v, s.h), 0.0));
+    return f * (ggx_d(dot(n, s.h), s.a2) * smith_v(s.nl, s.nv, s.a2));
 }
 
 fn mr_luminance(c: vec3f) -> f32 {
@@ -139,17 +149,12 @@ fn mr_sample_specular(m: MetalRough, n: vec3f, v: vec3f, u: vec2f) -> vec3f {
 // F(v.h) G2(v, l) / G1(v) (D cancels: it holds for near-mirrors too); 0
 // below the surface. Its mean over draws is the lobe's albedo at v.
 fn mr_specular_weight(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> vec3f {
-    let nl = dot(n, l);
-    if nl <= 0.0 {
+    let s = lobe_at(m, n, v, l);
+    if s.nl <= 0.0 {
         return vec3f(0.0);
     }
-    let nv = mr_view_cos(n, v);
-    let hv = v + l;
-    let h = select(vec3f(0.0), normalize(hv), dot(hv, hv) > 0.0);
-    let a = mr_alpha(m);
-    let a2 = a * a;
-    let g2_over_g1 = smith_v(nl, nv, a2) * 4.0 * nl * nv / smith_g1(nv, a2);
-    return schlick(mr_f0(m), max(dot(v, h), 0.0)) * g2_over_g1;
+    let g2_over_g1 = smith_v(s.nl, s.nv, s.a2) * 4.0 * s.nl * s.nv / smith_g1(s.nv, s.a2);
+    return schlick(mr_f0(m), max(dot(v, s.h), 0.0)) * g2_over_g1;
 }
 
 fn mr_specular_pdf(m: MetalRough, n: vec3f, v: vec3f, l: vec3f) -> f32 {
