@@ -92,7 +92,7 @@ fn shade(id: vec2u, lit_surface: bool, m: Material, before: vec4f, error: f32) -
         // of the shader (the written-out sweep pays there), traced from
         // the light on flat scenes (shared/origins.wgsl).
         var l = load_light(0u);
-        let reflected = l.kind == LIGHT_SPHERE || l.kind == LIGHT_ENVIRONMENT;
+        let reflected = rays_meet(l);
         if l.kind == LIGHT_SPHERE {
             l = sphere_as_point(l);
         }
@@ -108,7 +108,7 @@ fn shade(id: vec2u, lit_surface: bool, m: Material, before: vec4f, error: f32) -
     for (var i = 0u; i < select(light_count(), 0u, single_point()); i++) {
         var l = load_light(i);
         // (Before a sphere in point mode becomes a point.)
-        let reflected = l.kind == LIGHT_SPHERE || l.kind == LIGHT_ENVIRONMENT;
+        let reflected = rays_meet(l);
         if l.kind != LIGHT_SPHERE && !POINT_LIGHTS {
             continue;
         }
@@ -124,8 +124,7 @@ fn shade(id: vec2u, lit_surface: bool, m: Material, before: vec4f, error: f32) -
         let e = light_irradiance(i, l, p, n, o, count, params.falloff, params.falloff_k, &rng);
         irradiance += e;
         if metal_rough && !reflected {
-            let to_light = select(normalize(l.position - o), l.position, l.kind == LIGHT_DIRECTIONAL);
-            highlight += mr_specular(mr, n, v, to_light) * e;
+            highlight += mr_specular(mr, n, v, toward_light(l, o)) * e;
         }
     }
     let radiance = finite_or_zero(diffuse / PI * irradiance + highlight);

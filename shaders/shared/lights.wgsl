@@ -90,6 +90,18 @@ fn light_pdf(l: Light, p: vec3f) -> f32 {
     return cone_pdf(select(sphere_one_minus_cos(d, l.radius), 2.0, SCENE_INSIDE_LIGHTS && d < l.radius));
 }
 
+// Whether reflected rays can meet light l: a sphere's surface, the sky.
+// The hybrid graphs' light passes give a glossy lobe the other lights
+// (points, spots, directional), the reflection passes these.
+fn rays_meet(l: Light) -> bool {
+    return l.kind == LIGHT_SPHERE || l.kind == LIGHT_ENVIRONMENT;
+}
+
+// The direction from o toward a point, spot or directional light l.
+fn toward_light(l: Light, o: vec3f) -> vec3f {
+    return select(normalize(l.position - o), l.position, l.kind == LIGHT_DIRECTIONAL);
+}
+
 // Whether sample `s` of light `i` is visible from the offset origin `o`.
 fn light_visible(i: u32, o: vec3f, s: LightSample) -> bool {
     return !trace_shadow(i, o, s.dir, shadow_ray_length(s));

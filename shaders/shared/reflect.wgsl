@@ -56,18 +56,12 @@ fn shade(p: vec3f, n: vec3f, v: vec3f, error: f32, m: Material, extra: vec3f, rn
         let count = select(max(params.samples, 1u), 1u, l.kind != LIGHT_SPHERE);
         let li = light_irradiance(i, l, p, n, o, count, 0u, 0.0, rng);
         e += li;
-        if metal_rough && !hittable(l) {
-            let to_light = select(normalize(l.position - o), l.position, l.kind == LIGHT_DIRECTIONAL);
-            highlight += mr_specular(as_metal_rough(m), n, v, to_light) * li;
+        if metal_rough && !rays_meet(l) {
+            highlight += mr_specular(as_metal_rough(m), n, v, toward_light(l, o)) * li;
         }
     }
     e += extra;
     return finite_or_zero(shaded_diffuse(m, n, v) / PI * e + highlight);
-}
-
-// Whether reflected rays can meet light l: a sphere's surface, the sky.
-fn hittable(l: Light) -> bool {
-    return l.kind == LIGHT_SPHERE || l.kind == LIGHT_ENVIRONMENT;
 }
 
 // A metallic-roughness surface's GGX lobe lit by the lights its reflected
@@ -83,7 +77,7 @@ fn specular_light(mr: MetalRough, p: vec3f, n: vec3f, o: vec3f, v: vec3f, rng: p
     }
     for (var i = 0u; i < light_count(); i++) {
         let l = load_light(i);
-        if !hittable(l) {
+        if !rays_meet(l) {
             continue;
         }
         let s = sample_light(l, o, rand2(rng));
@@ -151,8 +145,8 @@ struct SpecularBounce {
 }
 
 // p (offset to o) is the surface point, for the light samples, which are
-// taken where `sample_lights` (the first surface: a shadow ray a hittable
-// light at every bounce cost 1.6x the frame on a room whose every surface
+// taken where `sample_lights` (the first surface: a shadow ray toward each
+// light rays meet at every bounce cost 1.6x the frame on a room whose every surface
 // is metallic-roughness) and the lobe is wide enough for them to help.
 fn specular_bounce(m: Material, p: vec3f, n: vec3f, o: vec3f, dir: vec3f, sample_lights: bool, rng: ptr<function, Rng>) -> SpecularBounce {
     if is_metal_rough(m) {
