@@ -94,3 +94,29 @@ fn graph_constants_win_over_specialisation() {
     assert!(got.contains(&("SCENE_SPECULAR".to_string(), 1.0)), "{got:?}");
     assert!(got.contains(&("SCENE_POINT_LIGHTS".to_string(), 0.0)), "{got:?}");
 }
+
+/// realtime.ron's temporal pass takes a still camera's history from each
+/// pixel's own texel (its CAMERA_STILL pipeline, without the
+/// reprojection's arithmetic): the same image as the generic pipeline's
+/// reprojection, with the scene still and with its lights moving.
+#[test]
+fn the_denoisers_still_camera_history_is_what_reprojection_gives() {
+    let Some(gpu) = gpu() else { return };
+    let path = repo().join("passes/realtime.ron");
+    let generic = CompileOptions { no_specialise: true, ..Default::default() };
+    for (name, dt) in [("cornell.ron", 0.0), ("moving-lights.ron", 1.0 / 30.0)] {
+        let images: Vec<_> = [CompileOptions::default(), generic.clone()]
+            .iter()
+            .map(|options| {
+                let compiled = compile(&load_scene(name), &path, options);
+                let mut s = session(gpu, load_scene(name), &compiled, SIZE, 1);
+                for _ in 0..6 {
+                    s.frame(dt);
+                }
+                s.read_output().unwrap_or_else(|e| panic!("{e}"))
+            })
+            .collect();
+        let (stats, _) = flip(&images[1], &images[0]);
+        assert!(stats.mean < 1e-4, "realtime.ron on {name}: still-camera pipeline against generic, FLIP {}", stats.mean);
+    }
+}

@@ -51,14 +51,16 @@ fn filter_at(p: vec2i) -> vec4f {
     // Taps off the centre, where a lane has a surface to filter (the same
     // for every lane once the image has stood still long enough).
     let still_enough = params.until_frames > 0u && frame.accum_count >= params.until_frames;
-    let taps = select(0u, 9u, gp.surface && !still_enough) * u32(frame.exact_one);
+    let taps = select(0u, 8u, gp.surface && !still_enough) * u32(frame.exact_one);
     let plane_scale = plane_scale(gp, params.depth_sigma) / f32(STEP);
-    // The tap's offset, stepped through the 3x3 in rows without an integer
-    // division (a SIMD CPU driver divides one lane at a time).
+    // The tap's offset, stepped through the 3x3's eight outer texels in
+    // rows without an integer division (a SIMD CPU driver divides one lane
+    // at a time) and without a trip for the centre (it runs every trip's
+    // arithmetic under its lane mask, taken or not).
     var d = vec2i(-1, -1);
     for (var k = 0u; k < taps; k++) {
         let q = p + d * STEP;
-        if k != 4u && all(q >= vec2i(0)) && all(q < size) {
+        if all(q >= vec2i(0)) && all(q < size) {
             let tap = textureLoad(filtered_in, q);
             let diagonal = d.x != 0 && d.y != 0;
             let kernel = select(0.125, 0.0625, diagonal);
@@ -73,7 +75,8 @@ fn filter_at(p: vec2i) -> vec4f {
             var_sum += w * w * tap.a;
             wsum += w;
         }
-        d.x += 1;
+        // Right, past the centre, or down to the next row's left end.
+        d.x += select(1, 2, d.y == 0 && d.x == -1);
         if d.x > 1 {
             d = vec2i(-1, d.y + 1);
         }

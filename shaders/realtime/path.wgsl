@@ -1,14 +1,14 @@
 // The real-time graph's samples: the path tracer (shared/path_render.wgsl),
-// one path a pixel, storing the camera ray's first hit as the G-buffer
-// does, with its ids, for the denoiser's demodulation and reprojection.
+// one path a pixel, storing the camera ray's first hit for the denoiser's
+// demodulation and reprojection: its position and the rest packed in one
+// texel (shared/realtime_common.wgsl, pack_first_hit).
 #import path_render
+#import realtime_common
 
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(5) var gbuf_id: texture_storage_2d<rgba32uint, write>;
+@group(0) @binding(3) var gbuf_hit: texture_storage_2d<rgba32uint, write>;
 
 fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {
     textureStore(gbuf_pos, pixel, pos);
-    textureStore(gbuf_normal, pixel, normal);
-    textureStore(gbuf_id, pixel, ids);
+    textureStore(gbuf_hit, pixel, pack_first_hit(normal, ids));
 }

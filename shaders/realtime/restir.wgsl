@@ -19,6 +19,7 @@
 // radiance; the reservoir is kept for the next frame.
 #import restir
 #import path
+#import realtime_common
 
 struct Params {
     candidates: u32, // ui: 1..64 "light candidates a pixel"
@@ -34,10 +35,10 @@ struct Params {
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(2) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-// z: the hit's error bound (f32 bits), what a surface's shadow rays
-// are offset by.
-@group(0) @binding(12) var gbuf_id: texture_storage_2d<rgba32uint, read>;
+// The rest of the first hit (shared/realtime_common.wgsl,
+// pack_first_hit): its normal, and its error bound, what a surface's
+// shadow rays are offset by.
+@group(0) @binding(2) var gbuf_hit: texture_storage_2d<rgba32uint, read>;
 // The path pass's record for this pass: the factor the hit's light
 // arrives with (f32 bits) and the packed geometric normal.
 @group(0) @binding(3) var di_surface: texture_storage_2d<rgba32uint, read>;
@@ -62,7 +63,8 @@ fn surface_at(q: vec2i) -> Surface {
     let g = textureLoad(gbuf_pos, q);
     let t = textureLoad(di_surface, q);
     let ng = oct_to_normal(unpack2x16snorm(t.w));
-    var s = make_surface(g.xyz, textureLoad(gbuf_normal, q).xyz, ng, bitcast<vec3f>(t.xyz), bitcast<f32>(textureLoad(gbuf_id, q).z));
+    let hit = textureLoad(gbuf_hit, q);
+    var s = make_surface(g.xyz, unpack_first_hit(hit).n, ng, bitcast<vec3f>(t.xyz), bitcast<f32>(hit.z));
     s.valid = s.valid && g.w >= 0.0;
     return s;
 }

@@ -42,11 +42,18 @@ struct Params {
     gradient_gain: f32, // ui: 0..16 "gradient gain (0: gradients off)"
 }
 
+// Set by the engine in frames whose camera is bit for bit last frame's
+// (src/graph/pipelines.rs): each pixel's history is then its own texel,
+// and the reprojection's arithmetic is not compiled in. A CPU driver runs
+// both sides of a branch under lane masks, so in a still frame the unused
+// reprojection cost 0.6x of this pass at 1280x720.
+override CAMERA_STILL: bool = false;
+
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, read>;
-@group(0) @binding(4) var gbuf_id: texture_storage_2d<rgba32uint, read>;
+// The rest of the first hit (shared/realtime_common.wgsl, pack_first_hit).
+@group(0) @binding(3) var gbuf_hit: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(5) var illum_prev: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(6) var color_prev: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(7) var albedo_prev: texture_storage_2d<rgba32float, read>;
@@ -137,14 +144,29 @@ fn reprojected(pixel: vec2u, g: vec4f, n: vec3f, view_dependent: bool) -> State 
     return h;
 }
 
+// A still camera's history at this pixel: its own texel, kept unless the
+// scene changed and what the texel saw is no longer this pixel's surface
+// (an object or a light moved through it).
+fn still_history(pixel: vec2u, g: vec4f, n: vec3f) -> State {
+    let q = vec2i(pixel);
+    var h = load_state(q);
+    if scene_changed() && !same_surface(q, textureLoad(geo_prev, q), g.xyz, n, g.w < 0.0, params.normal_cos, params.depth_tol) {
+        h = no_state();
+    }
+    if h.n < 1.0 {
+        h = no_state();
+    }
+    return h;
+}
+
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
     let g = textureLoad(gbuf_pos, id.xy);
-    let nw = textureLoad(gbuf_normal, id.xy);
-    let ids = textureLoad(gbuf_id, id.xy);
+    let hit = unpack_first_hit(textureLoad(gbuf_hit, id.xy));
+    let ids = hit.ids;
     let miss = g.w < 0.0;
     // One material load (material 0 stands in on a miss, whose id is
     // NO_HIT: no load out of range).
@@ -161,7 +183,11 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
 
     var h = no_state();
     if frame.history_frames > 0u {
-        h = reprojected(id.xy, g, nw.xyz, nw.w > 0.0);
+        if CAMERA_STILL {
+            h = still_history(id.xy, g, hit.n);
+        } else {
+            h = reprojected(id.xy, g, hit.n, hit.view_dependent);
+        }
     }
     var n = h.n;
     if params.max_history > 0u {
@@ -188,7 +214,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     textureStore(filter_in, id.xy, vec4f(h.illum, max(h.m2 - m1 * m1, 0.0) / max(n, 1.0)));
     textureStore(color, id.xy, vec4f(h.color, h.m2));
     textureStore(albedo, id.xy, vec4f(h.albedo, 1.0));
-    textureStore(geo, id.xy, vec4f(normal_to_oct(nw.xyz), select(g.w, -1.0, miss), luminance(l)));
+    textureStore(geo, id.xy, vec4f(select(normal_to_oct(hit.n), vec2f(0.0), miss), select(g.w, -1.0, miss), luminance(l)));
     let rel = g.xyz - frame.camera.origin;
-    textureStore(guide, id.xy, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(nw.xyz), surface)));
+    textureStore(guide, id.xy, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(hit.n), surface)));
 }

@@ -3,10 +3,15 @@
 // edge-stopping weights between two pixels' surfaces (SVGF, Schied et
 // al. 2017), and how much light changed around a pixel (the gradients).
 #import frame
+#import reproject
 
 // guide's w where a pixel shows no lit surface (a miss, a light): the
 // filters neither blur it nor blur it into its neighbours.
 const NO_SURFACE: u32 = 0xffffffffu;
+
+// The G-buffer's object id where a ray met no object (scene.wgsl's
+// NO_OBJECT, which not every importer of this file has).
+const NO_OBJECT_HIT: u32 = 0xffffffffu;
 
 fn luminance(c: vec3f) -> f32 {
     return dot(c, vec3f(0.2126, 0.7152, 0.0722));
@@ -35,6 +40,39 @@ fn pack_guide_normal(n: vec3f) -> u32 {
 fn unpack_guide_normal(w: u32) -> vec3f {
     let q = vec3u(w & 0x7ffu, (w >> 11u) & 0x7ffu, w >> 22u);
     return vec3f(q) * vec3f(2.0 / 2047.0, 2.0 / 2047.0, 2.0 / 1023.0) - 1.0;
+}
+
+// The path pass's first hit beside its position (`gbuf_pos`), in one
+// texel (`gbuf_hit`, rgba32uint), so that the path pass stores two
+// texels a pixel, not three (a CPU driver runs a store in the path loop
+// on every trip, under its lane mask):
+//   x: the shading normal facing the ray, octahedral in two 16-bit snorms
+//      (within about 5e-5; guide's 11-11-10 packing, within 1e-3, moved
+//      a grazing light's shading by percents);
+//   y: the material, with bit 31 set where what the hit shows depends on
+//      the view; NO_OBJECT where the ray met no object (a miss, a light);
+//   z: the hit's error bound (f32 bits, what its rays are offset by);
+//   w: the primitive (for texture coordinates).
+const VIEW_DEPENDENT_BIT: u32 = 0x80000000u;
+
+fn pack_first_hit(normal: vec4f, ids: vec4u) -> vec4u {
+    let material = select(ids.x | select(0u, VIEW_DEPENDENT_BIT, normal.w > 0.0), NO_OBJECT_HIT, ids.y == NO_OBJECT_HIT);
+    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), material, ids.z, ids.w);
+}
+
+// What gbuf_hit holds, unpacked; `ids` as the G-buffer's (material,
+// object or NO_OBJECT_HIT, error bits, primitive), the object itself not
+// kept (0 stands for any).
+struct FirstHit {
+    n: vec3f,
+    view_dependent: bool,
+    ids: vec4u,
+}
+
+fn unpack_first_hit(h: vec4u) -> FirstHit {
+    let none = h.y == NO_OBJECT_HIT;
+    let ids = vec4u(select(h.y & ~VIEW_DEPENDENT_BIT, NO_OBJECT_HIT, none), select(0u, NO_OBJECT_HIT, none), h.z, h.w);
+    return FirstHit(oct_to_normal(unpack2x16snorm(h.x)), !none && (h.y & VIEW_DEPENDENT_BIT) != 0u, ids);
 }
 
 fn load_guide(t: texture_storage_2d<rgba32uint, read>, q: vec2i) -> Guide {

@@ -70,11 +70,13 @@ fn footprint(pixel: vec2u, g: vec4f, view_dependent: bool) -> Footprint {
     let miss = g.w < 0.0;
     let now = project(frame.camera, select(g.xyz, miss_point(frame.camera, g.xyz), miss));
     let then = project(frame.prev_camera, select(g.xyz, miss_point(frame.prev_camera, g.xyz), miss));
-    if then.z <= 0.0 {
-        return fp;
-    }
     let motion = then.xy - now.xy;
     fp.still = all(motion == vec2f(0.0));
+    // Behind last frame's camera: not on its image, unless the camera
+    // stood still (a point that a mirror shows can lie behind it).
+    if then.z <= 0.0 && !fp.still {
+        return fp;
+    }
     if view_dependent && !fp.still {
         return fp;
     }
