@@ -75,16 +75,27 @@ fn an_edge_between_two_albedos_stays_sharp() {
         s.frame(0.0);
         if [1, 8].contains(&frame) {
             let out = s.read_output().unwrap_or_else(|e| panic!("{e}"));
+            // Every column but the one the edge crosses shows its own
+            // side's albedo: nothing blurs across. Not bit for bit: the
+            // denoiser divides by the albedo rounded to 10 bits
+            // (shared/realtime_common.wgsl, pack_first_hit), so the two
+            // sides' demodulated light differs by that rounding (up to
+            // 0.75% on red's dark channels), which the filter may mix;
+            // a blur of red into white would move white's green by 90%.
+            let mut worst = [0.0f32; 2];
             for (i, p) in out.data.iter().enumerate() {
                 let x = i as u32 % SIZE.0;
-                // Every column but the one the edge crosses shows its own
-                // side's albedo exactly: nothing blurs across.
-                if x < 23 {
-                    assert!(close(*p, lit(white)), "frame {frame}, column {x}: {p:?} is not the white side's {:?}", lit(white));
-                } else if x > 24 {
-                    assert!(close(*p, lit(red)), "frame {frame}, column {x}: {p:?} is not the red side's {:?}", lit(red));
+                let (side, want) = match x {
+                    0..=22 => (0, lit(white)),
+                    25.. => (1, lit(red)),
+                    _ => continue,
+                };
+                for c in 0..3 {
+                    worst[side] = worst[side].max((p[c] - want[c]).abs() / want[c]);
                 }
             }
+            eprintln!("frame {frame}: the largest relative difference from the white side's light {:.2e}, from the red side's {:.2e}", worst[0], worst[1]);
+            assert!(worst[0] <= 5e-3 && worst[1] <= 5e-3, "frame {frame}: a side moved off its own light by {worst:?}: the edge blurs");
         }
     }
 }

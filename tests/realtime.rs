@@ -141,3 +141,30 @@ fn a_light_jump_drops_stale_history_where_light_changed_and_leaves_no_ghost() {
     assert!(changed_reset as f64 >= 0.8 * changed as f64, "stale history kept: {changed_reset} of {changed} changed pixels started over");
     assert!(same_kept as f64 >= 0.8 * same as f64, "good history dropped: {same_kept} of {same} unchanged pixels kept it");
 }
+
+/// The first hit's direct light stays out of the filter (SPLIT_DIRECT in
+/// passes/realtime.ron): with direct light alone (paths that end at their
+/// first hit, `max_depth` 1), the first frame is the path pass's own
+/// sample, its shadow edges and noise untouched, with one light and with
+/// three. With the whole sample filtered, as before (SPLIT_DIRECT 0), a
+/// pixel moved by 7.9 times its light.
+#[test]
+fn direct_light_alone_passes_the_filter_untouched() {
+    let Some(gpu) = gpu() else { return };
+    for name in ["cornell.ron", "moving-lights.ron"] {
+        let scene = load_scene(name);
+        let compiled = compile(&scene, &realtime(), &keep(&["radiance"]));
+        let mut s = session(gpu, scene, &compiled, SIZE, 1);
+        s.set_param("path", "max_depth", glint::graph::desc::ParamValue::Int(1)).unwrap_or_else(|e| panic!("{e}"));
+        s.frame(0.0);
+        let out = s.read_output().unwrap_or_else(|e| panic!("{e}"));
+        let raw = read(&s, "radiance");
+        // The direct light's 9-bit mantissas (RGB9E5) move up to 0.2% of
+        // it into what the filter smooths.
+        let worst = out.data.iter().zip(&raw.data).map(|(o, r)| (luminance(o) - luminance(r)).abs() / luminance(r).max(1e-2)).fold(0.0, f64::max);
+        let lit = raw.data.iter().filter(|p| luminance(p) > 1e-2).count();
+        eprintln!("{name}: {lit} lit pixels; the largest change the filter made {worst:.2e} of a pixel's light");
+        assert!(lit > SIZE.0 as usize * SIZE.1 as usize / 4, "{name}: too little is lit to test anything");
+        assert!(worst < 0.01, "{name}: the filter changed a pixel by {worst:.3} of its direct light");
+    }
+}

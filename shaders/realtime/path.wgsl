@@ -1,7 +1,8 @@
 // The real-time graph's samples: the path tracer (shared/path_render.wgsl),
 // one path a pixel, storing the camera ray's first hit for the denoiser's
-// demodulation and reprojection: its position and the rest packed in one
-// texel (shared/realtime_common.wgsl, pack_first_hit).
+// demodulation and reprojection: its position, and the rest packed in one
+// texel with the light the hit received directly (SPLIT_DIRECT, which the
+// graph sets; shared/realtime_common.wgsl, pack_first_hit).
 #import path_render
 #import realtime_common
 
@@ -10,5 +11,5 @@
 
 fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {
     textureStore(gbuf_pos, pixel, pos);
-    textureStore(gbuf_hit, pixel, pack_first_hit(normal, ids));
+    textureStore(gbuf_hit, pixel, pack_first_hit(normal, path_primary_albedo, ids.z, path_pixel_direct));
 }

@@ -14,7 +14,7 @@
 
 fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {
     textureStore(gbuf_pos, pixel, pos);
-    textureStore(gbuf_hit, pixel, pack_first_hit(normal, ids));
+    textureStore(gbuf_hit, pixel, pack_first_hit(normal, path_primary_albedo, ids.z, vec3f(0.0)));
     let ng = pack2x16snorm(normal_to_oct(path_primary_ng));
     textureStore(di_surface, pixel, vec4u(bitcast<vec3u>(path_primary_direct), ng));
 }

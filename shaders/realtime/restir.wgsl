@@ -63,8 +63,8 @@ fn surface_at(q: vec2i) -> Surface {
     let g = textureLoad(gbuf_pos, q);
     let t = textureLoad(di_surface, q);
     let ng = oct_to_normal(unpack2x16snorm(t.w));
-    let hit = textureLoad(gbuf_hit, q);
-    var s = make_surface(g.xyz, unpack_first_hit(hit).n, ng, bitcast<vec3f>(t.xyz), bitcast<f32>(hit.z));
+    let first = unpack_first_hit(textureLoad(gbuf_hit, q));
+    var s = make_surface(g.xyz, first.n, ng, bitcast<vec3f>(t.xyz), first.error);
     s.valid = s.valid && g.w >= 0.0;
     return s;
 }

@@ -5,9 +5,11 @@
 //
 // What each history texture keeps, per pixel (all means over the same
 // `n` samples):
-//   illum:  the demodulated radiance I (radiance / albedo), n in w;
-//   color:  the radiance R itself (the unbiased mean remodulate falls back
-//           to as the filter fades), the second moment of lum(I) in w;
+//   illum:  the demodulated light I (radiance less the first hit's direct
+//           light, over its albedo: what the filter smooths), n in w;
+//   color:  the radiance R itself, direct light and all (the unbiased mean
+//           remodulation falls back to as the filter fades), the second moment of
+//           lum(I) in w;
 //   albedo: the first hit's albedo A (jittered rays see both sides of an
 //           edge);
 //   geo:    the octahedral normal and hit distance (-1: no lit surface),
@@ -28,11 +30,9 @@
 // Also writes `guide`, what the spatial passes test neighbours with: the
 // hit relative to the camera (f32 bits) and the packed octahedral normal
 // (NO_SURFACE for misses and lights, which the filters leave alone).
-#import scene
 #import reproject
 #import finite
 #import realtime_common
-#import textures
 
 struct Params {
     normal_cos: f32, // ui: 0..1 "normal cos"
@@ -166,19 +166,19 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     }
     let g = textureLoad(gbuf_pos, id.xy);
     let hit = unpack_first_hit(textureLoad(gbuf_hit, id.xy));
-    let ids = hit.ids;
     let miss = g.w < 0.0;
-    // One material load (material 0 stands in on a miss, whose id is
-    // NO_HIT: no load out of range).
-    let m = gbuffer_material(select(ids, vec4u(0u, NO_OBJECT, 0u, NO_OBJECT), miss), g);
-    let surface = !miss && ids.y != NO_OBJECT && !is_emissive(m);
-    let a = select(vec3f(0.0), m.albedo, surface);
+    let surface = !miss && hit.lit;
+    let a = select(vec3f(0.0), hit.albedo, surface);
     // Demodulated: the radiance over the albedo, channels without albedo 0
     // (remodulation multiplies them by it again).
     var l = textureLoad(radiance, id.xy).rgb;
     let valid = all_finite(l);
     l = select(vec3f(0.0), max(l, vec3f(0.0)), valid);
-    let i_s = select(vec3f(0.0), l / max(a, vec3f(1e-3)), a > vec3f(1e-3));
+    // The light the hit received directly stays out of the filtered
+    // signal (SPLIT_DIRECT): R holds it unfiltered, and the filter sees
+    // the rest, the noisier light of later bounces.
+    let d = select(vec3f(0.0), min(hit.direct, l), surface);
+    let i_s = select(vec3f(0.0), (l - d) / max(a, vec3f(1e-3)), a > vec3f(1e-3));
     let lum_s = luminance(i_s);
 
     var h = no_state();

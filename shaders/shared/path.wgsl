@@ -50,6 +50,38 @@ override FIRST_DIRECT_APART: bool = false;
 var<private> path_primary_direct: vec3f;
 var<private> path_primary_ng: vec3f;
 
+// The recorded first hit's albedo (FIRST_HIT), w 1 where it is a lit
+// surface (an object that does not glow), else 0.
+var<private> path_primary_albedo: vec4f;
+
+// With SPLIT_DIRECT, what the recorded first hit's light samples bring
+// (next-event estimation, as multiple importance sampling weighs it) is
+// also kept apart, in `path_direct`: the path's result after them less
+// its result before them (path_bounce takes the one, path_render.wgsl the
+// other, once the last light's shadow ray is traced; `path_direct_state`
+// says where the path is: 0 before the recorded hit, 1 at it, 2 sampling
+// its lights, 3 done). The real-time denoiser leaves it unfiltered
+// (shaders/realtime/temporal.wgsl); what a light its bounce ray meets
+// brings stays with the rest.
+// The recorded hit then samples every light, one sample each, where the
+// scene has at most SPLIT_DIRECT_LIGHTS (one light chosen at random would
+// leave its choice's noise unfiltered); with more it keeps NEE_ONE's one
+// light and nothing is kept apart (all is filtered).
+override SPLIT_DIRECT: bool = false;
+const SPLIT_DIRECT_LIGHTS: u32 = 4u;
+var<private> path_direct: vec3f;
+var<private> path_direct_from: vec3f;
+var<private> path_direct_state: u32;
+
+// SPLIT_DIRECT: the recorded hit's light samples are all in `result` (the
+// last light's shadow ray traced): what they brought is its direct light.
+fn end_direct(result: vec3f) {
+    if SPLIT_DIRECT && path_direct_state == 2u {
+        path_direct = result - path_direct_from;
+        path_direct_state = 3u;
+    }
+}
+
 // With BLUE_NOISE_FIRST, a path's first hit that is not a perfect mirror
 // draws its light choice, light sample and bounce direction from blue
 // noise (shared/blue_noise.wgsl) instead of white: set per path by
@@ -147,6 +179,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         path_primary_ids = select(vec4u(hit.material, hit.object, bitcast<u32>(gbuffer_offset_error(hit)), hit.prim), vec4u(NO_HIT, NO_HIT, 0u, NO_HIT), !hit_found(hit));
         path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0 && !is_metal_rough(m);
         path_primary_direct = vec3f(0.0);
+        let lit = hit_found(hit) && hit.object != NO_OBJECT && !is_emissive(m);
+        path_primary_albedo = select(vec4f(0.0), vec4f(m.albedo, 1.0), lit);
+        path_direct_state = select(0u, 1u, SPLIT_DIRECT && !path_primary_open && light_count() <= SPLIT_DIRECT_LIGHTS);
     }
     // This hit's diffuse direct light is another pass's (FIRST_DIRECT_APART;
     // that pass shades Lambert surfaces only: a metallic-roughness one
@@ -193,6 +228,11 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         }
         (*st).result += (*st).throughput * m.emission * w;
     }
+    // SPLIT_DIRECT: the result before the recorded hit's light samples.
+    if SPLIT_DIRECT && path_direct_state == 1u {
+        path_direct_from = (*st).result;
+        path_direct_state = 2u;
+    }
     if hit.light >= 0 {
         return out; // lights do not reflect
     }
@@ -237,11 +277,12 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         }
     } else {
         // Next-event estimation: every light, one sample each; with
-        // NEE_ONE one light, chosen with probability 1 / count.
+        // NEE_ONE one light, chosen with probability 1 / count (but every
+        // light at a recorded hit whose direct light is kept apart).
         var first = 0u;
         var lights = light_count();
         var chosen = 1.0;
-        if NEE_ONE && light_count() > 1u {
+        if NEE_ONE && light_count() > 1u && !(SPLIT_DIRECT && path_direct_state == 2u) {
             first = min(u32(select(rand_f32(rng), path_bn.b.x, blue) * f32(light_count())), light_count() - 1u);
             lights = 1u;
             chosen = 1.0 / f32(light_count());
@@ -347,6 +388,7 @@ fn trace_path(flat: ptr<function, FlatScene>, ro_in: vec3f, rd_in: vec3f, spread
         if !next.blocked {
             st.result += b.shadowed_light;
         }
+        end_direct(st.result);
         if !b.go_on {
             break;
         }

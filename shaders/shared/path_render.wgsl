@@ -7,7 +7,19 @@
 // as the G-buffer does. So a graph binds the G-buffer only where a pass
 // of it reads one.
 // hook: fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u)
+// (with SPLIT_DIRECT, `path_pixel_direct` holds the pixel's mean of the
+// first hit's direct light, shared/path.wgsl).
 #import path
+
+var<private> path_pixel_direct: vec3f;
+
+// A new path: no first hit recorded, no direct light counted.
+fn start_direct() {
+    path_primary_albedo = vec4f(0.0);
+    path_direct = vec3f(0.0);
+    path_direct_from = vec3f(0.0);
+    path_direct_state = 0u;
+}
 
 struct Params {
     spp: u32, // ui: 1..64 "samples per pixel"
@@ -53,6 +65,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     start_blue_noise(pixel, frame.frame_index, rng_key);
     var s = 0u;
     var sum = vec3f(0.0);
+    var direct_sum = vec3f(0.0);
     var st = new_path(frame.camera.origin, camera_dir(frame.camera, pixel, rand2(&rng)), pixel_spread());
     // A scene of one mesh and nothing else (ONE_MESH) takes the plain
     // traversal: lavapipe (Mesa 22.3.6) crashed in its queue thread running
@@ -69,11 +82,13 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
     path_primary_open = true;
     path_primary_direct = vec3f(0.0);
+    start_direct();
     loop {
         var b = ended_bounce();
         if st.depth < max_depth {
             b = path_bounce(&st, hit, params.rr_depth, true, &rng);
         }
+
         let path_done = b.ended || !b.go_on || st.depth + 1u >= max_depth;
         let pixel_done = path_done && s + 1u >= spp;
         let next_p = p + lanes;
@@ -97,11 +112,16 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         if !next.blocked {
             st.result += b.shadowed_light;
         }
+        end_direct(st.result);
         if path_done {
             sum += finite_or_zero(st.result);
+            if SPLIT_DIRECT {
+                direct_sum += finite_or_zero(path_direct);
+            }
             s += 1u;
             if pixel_done {
                 textureStore(radiance, pixel, vec4f(sum / f32(spp), 1.0));
+                path_pixel_direct = direct_sum / f32(spp);
                 store_first_hit(pixel, path_primary_pos, path_primary_normal, path_primary_ids);
                 if lane_done {
                     break;
@@ -110,6 +130,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
                 pixel = next_pixel;
                 s = 0u;
                 sum = vec3f(0.0);
+                direct_sum = vec3f(0.0);
             }
             st = new_path(ro, rd, pixel_spread());
             path_primary_pos = vec4f(0.0);
@@ -117,6 +138,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
             path_primary_open = true;
             path_primary_direct = vec3f(0.0);
+            start_direct();
         } else {
             st.depth += 1u;
         }

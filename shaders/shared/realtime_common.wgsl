@@ -9,9 +9,7 @@
 // filters neither blur it nor blur it into its neighbours.
 const NO_SURFACE: u32 = 0xffffffffu;
 
-// The G-buffer's object id where a ray met no object (scene.wgsl's
-// NO_OBJECT, which not every importer of this file has).
-const NO_OBJECT_HIT: u32 = 0xffffffffu;
+
 
 fn luminance(c: vec3f) -> f32 {
     return dot(c, vec3f(0.2126, 0.7152, 0.0722));
@@ -49,30 +47,63 @@ fn unpack_guide_normal(w: u32) -> vec3f {
 //   x: the shading normal facing the ray, octahedral in two 16-bit snorms
 //      (within about 5e-5; guide's 11-11-10 packing, within 1e-3, moved
 //      a grazing light's shading by percents);
-//   y: the material, with bit 31 set where what the hit shows depends on
-//      the view; NO_OBJECT where the ray met no object (a miss, a light);
+//   y: the albedo, 10 bits a channel in [0, 1], bit 30 set where what the
+//      hit shows depends on the view, bit 31 where it is a lit surface
+//      (an object that does not glow);
 //   z: the hit's error bound (f32 bits, what its rays are offset by);
-//   w: the primitive (for texture coordinates).
-const VIEW_DEPENDENT_BIT: u32 = 0x80000000u;
+//   w: the light the hit received directly (SPLIT_DIRECT, shared/path.wgsl;
+//      else 0), shared-exponent RGB9E5.
+// The albedo's and the direct light's rounding cost nothing in the end:
+// the denoiser divides and multiplies by the same albedo, and the direct
+// light's rounding only moves light between what it filters and what it
+// does not.
+const VIEW_DEPENDENT_BIT: u32 = 0x40000000u;
+const LIT_SURFACE_BIT: u32 = 0x80000000u;
 
-fn pack_first_hit(normal: vec4f, ids: vec4u) -> vec4u {
-    let material = select(ids.x | select(0u, VIEW_DEPENDENT_BIT, normal.w > 0.0), NO_OBJECT_HIT, ids.y == NO_OBJECT_HIT);
-    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), material, ids.z, ids.w);
+fn pack_first_hit(normal: vec4f, albedo: vec4f, error_bits: u32, direct: vec3f) -> vec4u {
+    let q = vec3u(round(clamp(albedo.rgb, vec3f(0.0), vec3f(1.0)) * 1023.0));
+    let flags = select(0u, VIEW_DEPENDENT_BIT, normal.w > 0.0) | select(0u, LIT_SURFACE_BIT, albedo.w > 0.0);
+    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), q.r | (q.g << 10u) | (q.b << 20u) | flags, error_bits, pack_rgb9e5(direct));
 }
 
-// What gbuf_hit holds, unpacked; `ids` as the G-buffer's (material,
-// object or NO_OBJECT_HIT, error bits, primitive), the object itself not
-// kept (0 stands for any).
+// What gbuf_hit holds, unpacked.
 struct FirstHit {
     n: vec3f,
     view_dependent: bool,
-    ids: vec4u,
+    lit: bool,
+    albedo: vec3f,
+    error: f32,
+    direct: vec3f,
 }
 
 fn unpack_first_hit(h: vec4u) -> FirstHit {
-    let none = h.y == NO_OBJECT_HIT;
-    let ids = vec4u(select(h.y & ~VIEW_DEPENDENT_BIT, NO_OBJECT_HIT, none), select(0u, NO_OBJECT_HIT, none), h.z, h.w);
-    return FirstHit(oct_to_normal(unpack2x16snorm(h.x)), !none && (h.y & VIEW_DEPENDENT_BIT) != 0u, ids);
+    let albedo = vec3f(vec3u(h.y & 0x3ffu, (h.y >> 10u) & 0x3ffu, (h.y >> 20u) & 0x3ffu)) / 1023.0;
+    return FirstHit(oct_to_normal(unpack2x16snorm(h.x)), (h.y & VIEW_DEPENDENT_BIT) != 0u, (h.y & LIT_SURFACE_BIT) != 0u, albedo, bitcast<f32>(h.z), unpack_rgb9e5(h.w));
+}
+
+// RGB in 32 bits: a 9-bit mantissa a channel and a shared 5-bit exponent
+// (the format of Vulkan's E5B9G9R9), for values from 0 to 65408
+// (clamped; not finite: 0).
+const RGB9E5_MAX: f32 = 65408.0;
+
+fn pack_rgb9e5(c_in: vec3f) -> u32 {
+    let finite = c_in == c_in & abs(c_in) < vec3f(3.0e38);
+    let c = select(vec3f(0.0), clamp(c_in, vec3f(0.0), vec3f(RGB9E5_MAX)), finite);
+    let top = max(c.r, max(c.g, c.b));
+    // The exponent of the largest channel, biased by 15 (and at least -16).
+    var e = max(-16, i32(floor(log2(max(top, 1e-30))))) + 16;
+    var scale = exp2(f32(e - 24));
+    if round(top / scale) >= 512.0 {
+        e += 1;
+        scale *= 2.0;
+    }
+    let m = vec3u(round(c / scale));
+    return m.r | (m.g << 9u) | (m.b << 18u) | (u32(e) << 27u);
+}
+
+fn unpack_rgb9e5(v: u32) -> vec3f {
+    let m = vec3f(vec3u(v & 0x1ffu, (v >> 9u) & 0x1ffu, (v >> 18u) & 0x1ffu));
+    return m * exp2(f32(i32(v >> 27u) - 24));
 }
 
 fn load_guide(t: texture_storage_2d<rgba32uint, read>, q: vec2i) -> Guide {
