@@ -143,17 +143,17 @@ fn a_light_jump_drops_stale_history_where_light_changed_and_leaves_no_ghost() {
 }
 
 /// The first hit's direct light stays out of the filter (SPLIT_DIRECT in
-/// passes/realtime.ron): with direct light alone (paths that end at their
+/// passes/realtime-direct.ron): with direct light alone (paths that end at their
 /// first hit, `max_depth` 1), the first frame is the path pass's own
 /// sample, its shadow edges and noise untouched, with one light and with
-/// three. With the whole sample filtered, as before (SPLIT_DIRECT 0), a
-/// pixel moved by 7.9 times its light.
+/// three. With the whole sample filtered (realtime.ron, SPLIT_DIRECT 0),
+/// a pixel moved by 7.9 times its light.
 #[test]
 fn direct_light_alone_passes_the_filter_untouched() {
     let Some(gpu) = gpu() else { return };
     for name in ["cornell.ron", "moving-lights.ron"] {
         let scene = load_scene(name);
-        let compiled = compile(&scene, &realtime(), &keep(&["radiance"]));
+        let compiled = compile(&scene, &repo().join("passes/realtime-direct.ron"), &keep(&["radiance"]));
         let mut s = session(gpu, scene, &compiled, SIZE, 1);
         s.set_param("path", "max_depth", glint::graph::desc::ParamValue::Int(1)).unwrap_or_else(|e| panic!("{e}"));
         s.frame(0.0);
