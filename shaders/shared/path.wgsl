@@ -63,6 +63,7 @@ var<private> path_primary_albedo: vec4f;
 // its lights, 3 done). The real-time denoiser leaves it unfiltered
 // (shaders/realtime/temporal.wgsl); what a light its bounce ray meets
 // brings stays with the rest.
+//
 // The recorded hit then samples every light, one sample each, where the
 // scene has at most SPLIT_DIRECT_LIGHTS (one light chosen at random would
 // leave its choice's noise unfiltered); with more it keeps NEE_ONE's one

@@ -88,7 +88,6 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         if st.depth < max_depth {
             b = path_bounce(&st, hit, params.rr_depth, true, &rng);
         }
-
         let path_done = b.ended || !b.go_on || st.depth + 1u >= max_depth;
         let pixel_done = path_done && s + 1u >= spp;
         let next_p = p + lanes;
