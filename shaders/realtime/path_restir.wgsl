@@ -1,7 +1,7 @@
-// realtime-restir.ron's samples: realtime/path.wgsl's (its first hit stored the same way), with the first
-// hit's diffuse direct light left to restir.wgsl (FIRST_DIRECT_APART,
-// shared/path.wgsl, which the graph sets): `di_surface` gets what that
-// pass needs.
+// realtime-restir.ron's samples: realtime/path.wgsl's (its first hit
+// stored the same way), with the first hit's diffuse direct light left
+// to restir.wgsl (FIRST_DIRECT_APART, shared/path.wgsl, which the graph
+// sets): `di_surface` gets what that pass needs.
 #import path_render
 #import reproject
 #import realtime_common

@@ -14,7 +14,12 @@
 var<private> path_pixel_direct: vec3f;
 
 // A new path: no first hit recorded, no direct light counted.
-fn start_direct() {
+fn start_first_hit() {
+    path_primary_pos = vec4f(0.0);
+    path_primary_normal = vec4f(0.0);
+    path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
+    path_primary_open = true;
+    path_primary_direct = vec3f(0.0);
     path_primary_albedo = vec4f(0.0);
     path_direct = vec3f(0.0);
     path_direct_from = vec3f(0.0);
@@ -77,12 +82,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     } else {
         hit = trace_closest_through(pixel, st.rd, 3.0e38);
     }
-    path_primary_pos = vec4f(0.0);
-    path_primary_normal = vec4f(0.0);
-    path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
-    path_primary_open = true;
-    path_primary_direct = vec3f(0.0);
-    start_direct();
+    start_first_hit();
     loop {
         var b = ended_bounce();
         if st.depth < max_depth {
@@ -132,12 +132,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
                 direct_sum = vec3f(0.0);
             }
             st = new_path(ro, rd, pixel_spread());
-            path_primary_pos = vec4f(0.0);
-            path_primary_normal = vec4f(0.0);
-            path_primary_ids = vec4u(NO_HIT, NO_HIT, 0u, NO_HIT);
-            path_primary_open = true;
-            path_primary_direct = vec3f(0.0);
-            start_direct();
+            start_first_hit();
         } else {
             st.depth += 1u;
         }

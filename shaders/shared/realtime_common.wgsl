@@ -9,8 +9,6 @@
 // filters neither blur it nor blur it into its neighbours.
 const NO_SURFACE: u32 = 0xffffffffu;
 
-
-
 fn luminance(c: vec3f) -> f32 {
     return dot(c, vec3f(0.2126, 0.7152, 0.0722));
 }
