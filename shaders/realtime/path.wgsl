@@ -11,5 +11,8 @@
 
 fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {
     textureStore(gbuf_pos, pixel, pos);
-    textureStore(gbuf_hit, pixel, pack_first_hit(normal, path_primary_albedo, ids.z, path_pixel_direct));
+    // (Without SPLIT_DIRECT the direct light is a constant 0, and its
+    // packing, which runs on every trip of the path loop, folds away.)
+    let direct = select(vec3f(0.0), path_pixel_direct, SPLIT_DIRECT);
+    textureStore(gbuf_hit, pixel, pack_first_hit(normal, path_primary_albedo, ids.z, direct));
 }
