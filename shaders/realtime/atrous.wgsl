@@ -15,6 +15,11 @@
 // the jittered rays saw at an edge, where A I is not R). Pixels without a
 // lit surface (A = 0) show R.
 //
+// Entry `last_split` (SPLIT_DIRECT graphs) also adds the filtered direct
+// light the same way: A (Fd - Dd), Fd its own chain's result (the same
+// steps with its own variance) and Dd its unfiltered mean (temporal.wgsl's
+// `direct_in`).
+//
 // Once the camera and scene have stood still for `until_frames` frames
 // (0: never), an iteration passes its input through: by then each
 // pixel's mean has so little noise left that this step's taps would be
@@ -38,6 +43,9 @@ struct Params {
 @group(0) @binding(5) var color: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(6) var albedo: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(7) var output: texture_storage_2d<rgba32float, write>;
+// `last_split` only: the filtered direct light and its unfiltered mean.
+@group(0) @binding(8) var direct: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(9) var direct_in: texture_storage_2d<rgba32float, read>;
 
 // This iteration at pixel p: the filtered light and the variance of it.
 fn filter_at(p: vec2i) -> vec4f {
@@ -97,9 +105,22 @@ fn last(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let f = filter_at(vec2i(id.xy)).rgb;
-    let i = textureLoad(illum, id.xy).rgb;
-    let r = textureLoad(color, id.xy).rgb;
-    let a = textureLoad(albedo, id.xy).rgb;
-    textureStore(output, id.xy, vec4f(max(r + a * (f - i), vec3f(0.0)), 1.0));
+    remodulate(id.xy, vec3f(0.0));
+}
+
+@compute @workgroup_size(128, 1)
+fn last_split(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    remodulate(id.xy, textureLoad(direct, id.xy).rgb - textureLoad(direct_in, id.xy).rgb);
+}
+
+// The image: R + A (F - I + extra), F this iteration's filtered light.
+fn remodulate(pixel: vec2u, extra: vec3f) {
+    let f = filter_at(vec2i(pixel)).rgb;
+    let i = textureLoad(illum, pixel).rgb;
+    let r = textureLoad(color, pixel).rgb;
+    let a = textureLoad(albedo, pixel).rgb;
+    textureStore(output, pixel, vec4f(max(r + a * (f - i + extra), vec3f(0.0)), 1.0));
 }

@@ -12,7 +12,8 @@
 //           mean remodulation falls back to as the filter fades), the
 //           second moment of lum(I) in w;
 //   albedo: the first hit's albedo A (jittered rays see both sides of an
-//           edge);
+//           edge), the second moment of lum(D / A) in w (D the first
+//           hit's direct light under SPLIT_DIRECT);
 //   geo:    the octahedral normal and hit distance (-1: no lit surface),
 //           for the next frame's reprojection, and this frame's sample
 //           luminance in w, for the next frame's gradients.
@@ -27,6 +28,11 @@
 // sample weighs at least g lambda (A-SVGF's alpha). While the scene moves
 // the history is also capped at `moving_history`. A still scene keeps it
 // all, so a still image converges to the path tracer's mean.
+//
+// Entry `split` also writes `direct_in`, the direct light's filter input
+// (SPLIT_DIRECT graphs filter it apart, with its own variance): its mean
+// over the albedo, (R - A I) / A, and the variance of that mean from the
+// pixel's own moments.
 //
 // Also writes `guide`, what the spatial passes test neighbours with: the
 // hit relative to the camera (f32 bits) and the packed octahedral normal
@@ -68,6 +74,8 @@ override CAMERA_STILL: bool = false;
 // The filter's input: the demodulated mean and the variance of that mean
 // from the pixel's own moments (variance.wgsl refines it).
 @group(0) @binding(15) var filter_in: texture_storage_2d<rgba32float, write>;
+// Entry `split` only: the direct light's filter input, as filter_in.
+@group(0) @binding(16) var direct_in: texture_storage_2d<rgba32float, write>;
 
 // Whether the scene changed since last frame, with a last frame in the
 // history (a new session's first frame has none).
@@ -81,20 +89,21 @@ struct State {
     color: vec3f,
     albedo: vec3f,
     m2: f32,
+    m2_direct: f32,
     n: f32,
 }
 
 fn no_state() -> State {
-    return State(vec3f(0.0), vec3f(0.0), vec3f(0.0), 0.0, 0.0);
+    return State(vec3f(0.0), vec3f(0.0), vec3f(0.0), 0.0, 0.0, 0.0);
 }
 
 fn load_state(q: vec2i) -> State {
     let i = textureLoad(illum_prev, q);
     let c = textureLoad(color_prev, q);
     let a = textureLoad(albedo_prev, q);
-    let s = State(i.rgb, c.rgb, a.rgb, c.a, i.a);
+    let s = State(i.rgb, c.rgb, a.rgb, c.a, a.a, i.a);
     // History that is not finite (it should never be) starts over.
-    if !all_finite(s.illum) || !all_finite(s.color) || !all_finite(vec3f(s.m2, s.n, 0.0)) {
+    if !all_finite(s.illum) || !all_finite(s.color) || !all_finite(vec3f(s.m2, s.n, s.m2_direct)) {
         return no_state();
     }
     return s;
@@ -102,7 +111,7 @@ fn load_state(q: vec2i) -> State {
 
 // Weighted sum of states (the bilinear blend of history taps).
 fn blend(a: State, b: State, w: f32) -> State {
-    return State(a.illum + w * b.illum, a.color + w * b.color, a.albedo + w * b.albedo, a.m2 + w * b.m2, a.n + w * b.n);
+    return State(a.illum + w * b.illum, a.color + w * b.color, a.albedo + w * b.albedo, a.m2 + w * b.m2, a.m2_direct + w * b.m2_direct, a.n + w * b.n);
 }
 
 // Last frame's history at this pixel: the bilinear taps around where its
@@ -160,34 +169,52 @@ fn still_history(pixel: vec2u, g: vec4f, n: vec3f) -> State {
     return h;
 }
 
+// Demodulated by the albedo: channels without albedo 0 (remodulation
+// multiplies them by it again).
+fn demodulate(l: vec3f, a: vec3f) -> vec3f {
+    return select(vec3f(0.0), l / max(a, vec3f(1e-3)), a > vec3f(1e-3));
+}
+
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let g = textureLoad(gbuf_pos, id.xy);
-    let hit = unpack_first_hit(textureLoad(gbuf_hit, id.xy));
+    temporal_step(id.xy);
+}
+
+@compute @workgroup_size(128, 1)
+fn split(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    textureStore(direct_in, id.xy, temporal_step(id.xy));
+}
+
+// The pixel's temporal step; returns the direct light's filter input.
+fn temporal_step(pixel: vec2u) -> vec4f {
+    let g = textureLoad(gbuf_pos, pixel);
+    let hit = unpack_first_hit(textureLoad(gbuf_hit, pixel));
     let miss = g.w < 0.0;
     let surface = !miss && hit.lit;
     let a = select(vec3f(0.0), hit.albedo, surface);
-    // Demodulated: the radiance over the albedo, channels without albedo 0
-    // (remodulation multiplies them by it again).
-    var l = textureLoad(radiance, id.xy).rgb;
+    var l = textureLoad(radiance, pixel).rgb;
     let valid = all_finite(l);
     l = select(vec3f(0.0), max(l, vec3f(0.0)), valid);
     // The light the hit received directly stays out of the filtered
     // signal (SPLIT_DIRECT): R holds it unfiltered, and the filter sees
     // the rest, the noisier light of later bounces.
     let d = select(vec3f(0.0), min(hit.direct, l), surface);
-    let i_s = select(vec3f(0.0), (l - d) / max(a, vec3f(1e-3)), a > vec3f(1e-3));
+    let i_s = demodulate(l - d, a);
     let lum_s = luminance(i_s);
+    let lum_d = luminance(demodulate(d, a));
 
     var h = no_state();
     if frame.history_frames > 0u {
         if CAMERA_STILL {
-            h = still_history(id.xy, g, hit.n);
+            h = still_history(pixel, g, hit.n);
         } else {
-            h = reprojected(id.xy, g, hit.n, hit.view_dependent);
+            h = reprojected(pixel, g, hit.n, hit.view_dependent);
         }
     }
     var n = h.n;
@@ -208,14 +235,20 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
         h.color = mix(h.color, l, k);
         h.albedo = mix(h.albedo, a, k);
         h.m2 = mix(h.m2, lum_s * lum_s, k);
+        h.m2_direct = mix(h.m2_direct, lum_d * lum_d, k);
         n += 1.0;
     }
-    textureStore(illum, id.xy, vec4f(h.illum, n));
+    textureStore(illum, pixel, vec4f(h.illum, n));
     let m1 = luminance(h.illum);
-    textureStore(filter_in, id.xy, vec4f(h.illum, max(h.m2 - m1 * m1, 0.0) / max(n, 1.0)));
-    textureStore(color, id.xy, vec4f(h.color, h.m2));
-    textureStore(albedo, id.xy, vec4f(h.albedo, 1.0));
-    textureStore(geo, id.xy, vec4f(select(normal_to_oct(hit.n), vec2f(0.0), miss), select(g.w, -1.0, miss), luminance(l)));
+    textureStore(filter_in, pixel, vec4f(h.illum, max(h.m2 - m1 * m1, 0.0) / max(n, 1.0)));
+    textureStore(color, pixel, vec4f(h.color, h.m2));
+    textureStore(albedo, pixel, vec4f(h.albedo, h.m2_direct));
+    textureStore(geo, pixel, vec4f(select(normal_to_oct(hit.n), vec2f(0.0), miss), select(g.w, -1.0, miss), luminance(l)));
     let rel = g.xyz - frame.camera.origin;
-    textureStore(guide, id.xy, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(hit.n), surface)));
+    textureStore(guide, pixel, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(hit.n), surface)));
+    // The direct light's mean: what R holds beyond A I (exactly the mean
+    // of D where the albedo did not vary over the samples).
+    let direct = demodulate(max(h.color - h.albedo * h.illum, vec3f(0.0)), h.albedo);
+    let m1_direct = luminance(direct);
+    return vec4f(direct, max(h.m2_direct - m1_direct * m1_direct, 0.0) / max(n, 1.0));
 }

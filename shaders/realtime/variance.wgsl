@@ -3,8 +3,9 @@
 // `min_history` samples, its own moments' estimate (temporal.wgsl's
 // `filter_in`.w) blurred over 3x3 pixels (SVGF's Gaussian: a few samples'
 // moments are noisy); before that, the spread of its 5x5 neighbours' means
-// on the same surface, whose weighted mean also replaces its own (one or
-// two samples alone are mostly noise). Being a mean's variance (of n
+// on the same surface, whose weighted mean also replaces its own while
+// history is shorter than `blur_history` (one or two samples alone are
+// mostly noise), fading out by twice that. Being a mean's variance (of n
 // samples), it falls as history grows, and with it what the à-trous
 // filter's colour test lets through: a still image tends to the
 // unfiltered mean.
@@ -14,6 +15,7 @@ struct Params {
     min_history: f32, // ui: 1..16 "history for temporal variance"
     depth_sigma: f32, // ui: 0.1..16 log "depth sigma (pixel footprints)"
     boost: f32, // ui: 1..16 "variance boost at one sample"
+    blur_history: f32, // ui: 0..64 "history replaced by the neighbours' mean below"
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -30,12 +32,16 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let p = vec2i(id.xy);
     let own = textureLoad(filter_in, p);
     let n = max(textureLoad(illum, p).a, 1.0);
-    let short = n < params.min_history;
+    // The neighbours' spread stands for the variance below min_history;
+    // their mean replaces the pixel's below blur_history, then fades out
+    // by 2 blur_history (a sudden stop shows as a burst of noise).
+    let spatial_variance = n < params.min_history;
+    let blur = clamp(2.0 - n / max(params.blur_history, 1e-6), 0.0, 1.0);
     let gp = load_guide(guide, p);
     let size = vec2i(frame.size);
     var value = own.rgb;
     var var_mean = 0.0;
-    if short {
+    if spatial_variance || blur > 0.0 {
         // A loop of 25 trips where a lane needs it, none elsewhere (a CPU
         // driver runs a loop as long as its busiest lane).
         let taps = select(0u, 25u, gp.surface) * u32(frame.exact_one);
@@ -65,7 +71,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             wsum += w;
         }
         if wsum > 0.0 {
-            value = sum / wsum;
+            value = mix(value, sum / wsum, blur);
             let mu = s1 / wsum;
             // The spread of the neighbours' means (each of about n
             // samples, so already a mean's variance), boosted while
@@ -74,9 +80,11 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             let t = clamp((n - 1.0) / max(params.min_history - 1.0, 1.0), 0.0, 1.0);
             var_mean = max(s2 / wsum - mu * mu, 0.0) * mix(params.boost, 1.0, t);
         }
-    } else {
+    }
+    if !spatial_variance {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
         // only the noise's level is blurred.
+        var_mean = 0.0;
         let taps = 9u * u32(frame.exact_one);
         var d = vec2i(-1, -1);
         for (var k = 0u; k < taps; k++) {
