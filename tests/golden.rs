@@ -202,7 +202,6 @@ fn golden_images_of_every_pass() {
         ("hybrid-gi.ron", "cornell.ron"),
         ("realtime.ron", "cornell.ron"),
         ("realtime-restir.ron", "moving-lights.ron"),
-        ("realtime-direct.ron", "cornell.ron"),
         // Textures (base colour, alpha mask, normal, metallic-roughness) and
         // glTF's metallic-roughness material.
         ("hybrid.ron", "textured.ron"),

@@ -143,19 +143,18 @@ fn a_light_jump_drops_stale_history_where_light_changed_and_leaves_no_ghost() {
 }
 
 /// The first hit's direct light stays out of the indirect light's filter
-/// (SPLIT_DIRECT in passes/realtime-direct.ron): with direct light alone
-/// (paths that end at their first hit, `max_depth` 1) and the direct
-/// light's own filter steps told to keep every pixel (`sigma_l` 0), the
+/// (SPLIT_DIRECT in passes/realtime.ron): with direct light alone (paths
+/// that end at their first hit, `max_depth` 1) and the two steps that
+/// filter the direct light told to keep every pixel (`sigma_l` 0), the
 /// first frame is the path pass's own sample, its shadow edges and noise
 /// untouched, with one light and with three. With the whole sample
-/// filtered (realtime.ron, SPLIT_DIRECT 0), a pixel moved by 7.9 times its
-/// light.
+/// filtered (SPLIT_DIRECT 0), a pixel moved by 7.9 times its light.
 #[test]
 fn direct_light_alone_passes_the_filter_untouched() {
     let Some(gpu) = gpu() else { return };
     for name in ["cornell.ron", "moving-lights.ron"] {
         let scene = load_scene(name);
-        let compiled = compile(&scene, &repo().join("passes/realtime-direct.ron"), &keep(&["radiance"]));
+        let compiled = compile(&scene, &realtime(), &keep(&["radiance"]));
         let mut s = session(gpu, scene, &compiled, SIZE, 1);
         direct_only(&mut s, false);
         s.frame(0.0);
@@ -171,20 +170,21 @@ fn direct_light_alone_passes_the_filter_untouched() {
     }
 }
 
-/// Paths end at their first hit; `filtered` false makes the direct
-/// light's filter steps keep every pixel as it is.
+/// Paths end at their first hit; `filtered` false makes the steps that
+/// filter the direct light keep every pixel as it is (the indirect light,
+/// which they filter too, is then nothing).
 fn direct_only(s: &mut Session, filtered: bool) {
     use glint::graph::desc::ParamValue;
     s.set_param("path", "max_depth", ParamValue::Int(1)).unwrap_or_else(|e| panic!("{e}"));
     if !filtered {
-        for pass in ["direct_1", "direct_2"] {
+        for pass in ["atrous_1", "atrous_2"] {
             s.set_param(pass, "sigma_l", ParamValue::Float(0.0)).unwrap_or_else(|e| panic!("{e}"));
         }
     }
 }
 
-/// The direct light's own filter (realtime-direct.ron's `direct_*`
-/// passes, steered by its variance) brings the first frame of direct
+/// The direct light's own filter (realtime.ron's first two à-trous
+/// steps, steered by its variance) brings the first frame of direct
 /// light alone closer to its converged mean than leaving it unfiltered
 /// where one light sample a pixel is mostly noise: thesis-env3's one light
 /// is a large sphere seen through windows, its patches are penumbra
@@ -193,7 +193,7 @@ fn direct_only(s: &mut Session, filtered: bool) {
 fn the_direct_lights_filter_lowers_its_first_frames_error_in_penumbrae() {
     let Some(gpu) = gpu() else { return };
     let name = "thesis-env3.ron";
-    let compiled = compile(&load_scene(name), &repo().join("passes/realtime-direct.ron"), &CompileOptions::default());
+    let compiled = compile(&load_scene(name), &realtime(), &CompileOptions::default());
     let run = |filtered: bool, frames: u32| {
         let mut s = session(gpu, load_scene(name), &compiled, SIZE, 1);
         direct_only(&mut s, filtered);

@@ -15,10 +15,11 @@
 // the jittered rays saw at an edge, where A I is not R). Pixels without a
 // lit surface (A = 0) show R.
 //
-// Entry `last_split` (SPLIT_DIRECT graphs) also adds the filtered direct
-// light the same way: A (Fd - Dd), Fd its own chain's result (the same
-// steps with its own variance) and Dd its unfiltered mean (temporal.wgsl's
-// `direct_in`).
+// SPLIT_DIRECT graphs filter the first hit's direct light apart, by its
+// own variance: `main_split` filters it beside the rest (the same surface
+// weights, its own colour test), and `last_split` adds it the same way:
+// A (Fd - Dd), Fd its filtered result and Dd its unfiltered mean
+// (temporal.wgsl's `direct_in`).
 //
 // Once the camera and scene have stood still for `until_frames` frames
 // (0: never), an iteration passes its input through: by then each
@@ -46,16 +47,36 @@ struct Params {
 // `last_split` only: the filtered direct light and its unfiltered mean.
 @group(0) @binding(8) var direct: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(9) var direct_in: texture_storage_2d<rgba32float, read>;
+// `main_split` only: the direct light's input and output, as
+// filtered_in and filtered.
+@group(0) @binding(10) var direct_filtered_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(11) var direct_filtered: texture_storage_2d<rgba32float, write>;
 
-// This iteration at pixel p: the filtered light and the variance of it.
-fn filter_at(p: vec2i) -> vec4f {
-    let own = textureLoad(filtered_in, p);
+// This iteration at pixel p: the filtered light and the variance of it,
+// and with `with_direct` the same for the direct light (`dtex`, its own
+// colour test, the same surface weights). Textures are arguments so that
+// `main` and `last` pass `tex` twice and bind no direct light; a constant
+// `with_direct` is folded away where the driver inlines the call.
+struct Filtered {
+    light: vec4f,
+    direct: vec4f,
+}
+
+fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_storage_2d<rgba32float, read>, with_direct: bool) -> Filtered {
+    let own = textureLoad(tex, p);
+    var own_d = vec4f(0.0);
+    if with_direct {
+        own_d = textureLoad(dtex, p);
+    }
     let gp = load_guide(guide, p);
     let size = vec2i(frame.size);
     // 1/4, 1/2, 1/4 in each axis; the centre's weight is (1/2)^2.
-    var sum = 0.25 * own.rgb;
-    var var_sum = 0.0625 * own.a;
+    var sum = 0.25 * own;
+    sum.a *= 0.25;
     var wsum = 0.25;
+    var sum_d = 0.25 * own_d;
+    sum_d.a *= 0.25;
+    var wsum_d = 0.25;
     // Taps off the centre, where a lane has a surface to filter (the same
     // for every lane once the image has stood still long enough).
     let still_enough = params.until_frames > 0u && frame.accum_count >= params.until_frames;
@@ -69,19 +90,20 @@ fn filter_at(p: vec2i) -> vec4f {
     for (var k = 0u; k < taps; k++) {
         let q = p + d * STEP;
         if all(q >= vec2i(0)) && all(q < size) {
-            let tap = textureLoad(filtered_in, q);
+            let gq = load_guide(guide, q);
             let diagonal = d.x != 0 && d.y != 0;
             let kernel = select(0.125, 0.0625, diagonal);
-            let colour = max(abs(tap.r - own.r), max(abs(tap.g - own.g), abs(tap.b - own.b)));
-            // In units of the difference's own deviation (both means' noise):
-            // a symmetric test, so a noisy pixel that its neighbours smooth
-            // also spreads into them and the filter keeps the image's energy.
-            let scale = 1.0 / (params.sigma_l * sqrt(own.a + tap.a) + 1e-20);
-            let inv_dist = select(1.0, 1.0 / sqrt(2.0), diagonal);
-            let w = kernel * geometry_weight(gp, load_guide(guide, q), plane_scale * inv_dist, colour * scale);
-            sum += w * tap.rgb;
-            var_sum += w * w * tap.a;
+            let scale = plane_scale * select(1.0, 1.0 / sqrt(2.0), diagonal);
+            let tap = textureLoad(tex, q);
+            let w = kernel * geometry_weight(gp, gq, scale, colour_test(own, tap));
+            sum += vec4f(w * tap.rgb, w * w * tap.a);
             wsum += w;
+            if with_direct {
+                let tap_d = textureLoad(dtex, q);
+                let w_d = kernel * geometry_weight(gp, gq, scale, colour_test(own_d, tap_d));
+                sum_d += vec4f(w_d * tap_d.rgb, w_d * w_d * tap_d.a);
+                wsum_d += w_d;
+            }
         }
         // Right, past the centre, or down to the next row's left end.
         d.x += select(1, 2, d.y == 0 && d.x == -1);
@@ -89,7 +111,16 @@ fn filter_at(p: vec2i) -> vec4f {
             d = vec2i(-1, d.y + 1);
         }
     }
-    return vec4f(sum / wsum, var_sum / (wsum * wsum));
+    return Filtered(vec4f(sum.rgb / wsum, sum.a / (wsum * wsum)), vec4f(sum_d.rgb / wsum_d, sum_d.a / (wsum_d * wsum_d)));
+}
+
+// How far a tap's demodulated colour lies from the pixel's, in units of
+// the difference's own deviation (both means' noise): a symmetric test, so
+// a noisy pixel that its neighbours smooth also spreads into them and the
+// filter keeps the image's energy.
+fn colour_test(own: vec4f, tap: vec4f) -> f32 {
+    let colour = max(abs(tap.r - own.r), max(abs(tap.g - own.g), abs(tap.b - own.b)));
+    return colour / (params.sigma_l * sqrt(own.a + tap.a) + 1e-20);
 }
 
 @compute @workgroup_size(128, 1)
@@ -97,7 +128,18 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    textureStore(filtered, id.xy, filter_at(vec2i(id.xy)));
+    textureStore(filtered, id.xy, filter_at(vec2i(id.xy), filtered_in, filtered_in, false).light);
+}
+
+// `main` for the direct light too (SPLIT_DIRECT graphs' first steps).
+@compute @workgroup_size(128, 1)
+fn main_split(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let f = filter_at(vec2i(id.xy), filtered_in, direct_filtered_in, true);
+    textureStore(filtered, id.xy, f.light);
+    textureStore(direct_filtered, id.xy, f.direct);
 }
 
 @compute @workgroup_size(128, 1)
@@ -118,7 +160,7 @@ fn last_split(@builtin(global_invocation_id) id: vec3u) {
 
 // The image: R + A (F - I + extra), F this iteration's filtered light.
 fn remodulate(pixel: vec2u, extra: vec3f) {
-    let f = filter_at(vec2i(pixel)).rgb;
+    let f = filter_at(vec2i(pixel), filtered_in, filtered_in, false).light.rgb;
     let i = textureLoad(illum, pixel).rgb;
     let r = textureLoad(color, pixel).rgb;
     let a = textureLoad(albedo, pixel).rgb;

@@ -24,13 +24,68 @@ struct Params {
 @group(0) @binding(3) var guide: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(4) var filtered: texture_storage_2d<rgba32float, write>;
 
+// Entry `split` only (SPLIT_DIRECT graphs): the direct light's input
+// and output, as filter_in and filtered. Its variance is estimated the
+// same way, with the same surface weights; its mean is never blurred.
+@group(0) @binding(5) var direct_in: texture_storage_2d<rgba32float, read>;
+@group(0) @binding(6) var direct_filtered: texture_storage_2d<rgba32float, write>;
+
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
-    let p = vec2i(id.xy);
-    let own = textureLoad(filter_in, p);
+    textureStore(filtered, id.xy, estimate(vec2i(id.xy), filter_in, filter_in, false).light);
+}
+
+@compute @workgroup_size(128, 1)
+fn split(@builtin(global_invocation_id) id: vec3u) {
+    if !in_frame(id) {
+        return;
+    }
+    let e = estimate(vec2i(id.xy), filter_in, direct_in, true);
+    textureStore(filtered, id.xy, e.light);
+    textureStore(direct_filtered, id.xy, e.direct);
+}
+
+// A signal's running sums over the neighbours: the weighted mean and the
+// luminance's first two moments.
+struct Spread {
+    sum: vec3f,
+    s1: f32,
+    s2: f32,
+}
+
+fn spread_add(s: Spread, w: f32, c: vec3f) -> Spread {
+    let l = luminance(c);
+    return Spread(s.sum + w * c, s.s1 + w * l, s.s2 + w * l * l);
+}
+
+// The spread of the neighbours' means (each of about n samples, so
+// already a mean's variance), boosted while history is this short by
+// `boost` at one sample, falling to 1 at min_history (SVGF boosts by
+// 4 / n).
+fn spread_variance(s: Spread, wsum: f32, n: f32) -> f32 {
+    let mu = s.s1 / wsum;
+    let t = clamp((n - 1.0) / max(params.min_history - 1.0, 1.0), 0.0, 1.0);
+    return max(s.s2 / wsum - mu * mu, 0.0) * mix(params.boost, 1.0, t);
+}
+
+struct Estimate {
+    light: vec4f,
+    direct: vec4f,
+}
+
+// The pixel's mean and the variance of it, for the light (`tex`) and with
+// `with_direct` the direct light (`dtex`). Textures are arguments so that
+// `main` passes `tex` twice and binds no direct light; a constant
+// `with_direct` is folded away where the driver inlines the call.
+fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_storage_2d<rgba32float, read>, with_direct: bool) -> Estimate {
+    let own = textureLoad(tex, p);
+    var own_d = vec4f(0.0);
+    if with_direct {
+        own_d = textureLoad(dtex, p);
+    }
     let n = max(textureLoad(illum, p).a, 1.0);
     // The neighbours' spread stands for the variance below min_history;
     // their mean replaces the pixel's below blur_history, then fades out
@@ -41,13 +96,13 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     let size = vec2i(frame.size);
     var value = own.rgb;
     var var_mean = 0.0;
+    var var_d = 0.0;
     if spatial_variance || blur > 0.0 {
         // A loop of 25 trips where a lane needs it, none elsewhere (a CPU
         // driver runs a loop as long as its busiest lane).
         let taps = select(0u, 25u, gp.surface) * u32(frame.exact_one);
-        var sum = vec3f(0.0);
-        var s1 = 0.0;
-        var s2 = 0.0;
+        var light = Spread(vec3f(0.0), 0.0, 0.0);
+        var direct = Spread(vec3f(0.0), 0.0, 0.0);
         var wsum = 0.0;
         let plane_scale = plane_scale(gp, params.depth_sigma);
         // The tap's offset, stepped through the 5x5 in rows without an
@@ -63,39 +118,37 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             if d.x > 2 {
                 d = vec2i(-2, d.y + 1);
             }
-            let iq = textureLoad(filter_in, q).rgb;
-            let l = luminance(iq);
-            sum += w * iq;
-            s1 += w * l;
-            s2 += w * l * l;
+            light = spread_add(light, w, textureLoad(tex, q).rgb);
+            if with_direct {
+                direct = spread_add(direct, w, textureLoad(dtex, q).rgb);
+            }
             wsum += w;
         }
         if wsum > 0.0 {
-            value = mix(value, sum / wsum, blur);
-            let mu = s1 / wsum;
-            // The spread of the neighbours' means (each of about n
-            // samples, so already a mean's variance), boosted while
-            // history is this short by `boost` at one sample, falling to
-            // 1 at min_history (SVGF boosts by 4 / n).
-            let t = clamp((n - 1.0) / max(params.min_history - 1.0, 1.0), 0.0, 1.0);
-            var_mean = max(s2 / wsum - mu * mu, 0.0) * mix(params.boost, 1.0, t);
+            value = mix(value, light.sum / wsum, blur);
+            var_mean = spread_variance(light, wsum, n);
+            var_d = spread_variance(direct, wsum, n);
         }
     }
     if !spatial_variance {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
         // only the noise's level is blurred.
         var_mean = 0.0;
+        var_d = 0.0;
         let taps = 9u * u32(frame.exact_one);
         var d = vec2i(-1, -1);
         for (var k = 0u; k < taps; k++) {
             let q = clamp(p + d, vec2i(0), size - 1);
             let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
-            var_mean += kernel * textureLoad(filter_in, q).a;
+            var_mean += kernel * textureLoad(tex, q).a;
+            if with_direct {
+                var_d += kernel * textureLoad(dtex, q).a;
+            }
             d.x += 1;
             if d.x > 1 {
                 d = vec2i(-1, d.y + 1);
             }
         }
     }
-    textureStore(filtered, id.xy, vec4f(value, var_mean));
+    return Estimate(vec4f(value, var_mean), vec4f(own_d.rgb, var_d));
 }
