@@ -14,7 +14,8 @@
 struct Params {
     min_history: f32, // ui: 1..16 "history for temporal variance"
     depth_sigma: f32, // ui: 0.1..16 log "depth sigma (pixel footprints)"
-    boost: f32, // ui: 1..16 "variance boost at one sample"
+    boost: f32, // ui: 1..32 "variance boost at one sample"
+    direct_boost: f32, // ui: 1..32 "the direct light's boost (entry split)"
     blur_history: f32, // ui: 0..64 "history replaced by the neighbours' mean below"
 }
 
@@ -62,13 +63,12 @@ fn spread_add(s: Spread, w: f32, c: vec3f) -> Spread {
 }
 
 // The spread of the neighbours' means (each of about n samples, so
-// already a mean's variance), boosted while history is this short by
-// `boost` at one sample, falling to 1 at min_history (SVGF boosts by
-// 4 / n).
-fn spread_variance(s: Spread, wsum: f32, n: f32) -> f32 {
+// already a mean's variance), boosted by `boost` at one sample, falling as
+// 1 + (boost - 1) / n^2 (SVGF boosts by 4 / n): one sample's neighbours
+// are few and as noisy as the pixel, and their spread underestimates it.
+fn spread_variance(s: Spread, wsum: f32, n: f32, boost: f32) -> f32 {
     let mu = s.s1 / wsum;
-    let t = clamp((n - 1.0) / max(params.min_history - 1.0, 1.0), 0.0, 1.0);
-    return max(s.s2 / wsum - mu * mu, 0.0) * mix(params.boost, 1.0, t);
+    return max(s.s2 / wsum - mu * mu, 0.0) * (1.0 + (boost - 1.0) / (n * n));
 }
 
 struct Estimate {
@@ -126,8 +126,8 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
         }
         if wsum > 0.0 {
             value = mix(value, light.sum / wsum, blur);
-            var_mean = spread_variance(light, wsum, n);
-            var_d = spread_variance(direct, wsum, n);
+            var_mean = spread_variance(light, wsum, n, params.boost);
+            var_d = spread_variance(direct, wsum, n, params.direct_boost);
         }
     }
     if !spatial_variance {
