@@ -98,25 +98,28 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     var var_mean = 0.0;
     var var_d = 0.0;
     if spatial_variance || blur > 0.0 {
-        // A loop of 25 trips where a lane needs it, none elsewhere (a CPU
-        // driver runs a loop as long as its busiest lane).
-        let taps = select(0u, 25u, gp.surface) * u32(frame.exact_one);
+        // 5x5 neighbours for the spread, 3x3 while only the blur fades
+        // out (a loop of 25 or 9 trips where a lane needs it, none
+        // elsewhere: a CPU driver runs a loop as long as its busiest lane).
+        let r = select(1, 2, spatial_variance);
+        let taps = select(0u, u32((2 * r + 1) * (2 * r + 1)), gp.surface) * u32(frame.exact_one);
+        let centre = (taps - 1u) / 2u;
         var light = Spread(vec3f(0.0), 0.0, 0.0);
         var direct = Spread(vec3f(0.0), 0.0, 0.0);
         var wsum = 0.0;
         let plane_scale = plane_scale(gp, params.depth_sigma);
-        // The tap's offset, stepped through the 5x5 in rows without an
+        // The tap's offset, stepped through the square in rows without an
         // integer division (a SIMD CPU driver divides one lane at a time).
-        var d = vec2i(-2, -2);
+        var d = vec2i(-r, -r);
         for (var k = 0u; k < taps; k++) {
             let q = clamp(p + d, vec2i(0), size - 1);
             var w = 1.0;
-            if k != 12u {
+            if k != centre {
                 w = geometry_weight(gp, load_guide(guide, q), plane_scale * inverseSqrt(f32(dot(d, d))), 0.0);
             }
             d.x += 1;
-            if d.x > 2 {
-                d = vec2i(-2, d.y + 1);
+            if d.x > r {
+                d = vec2i(-r, d.y + 1);
             }
             light = spread_add(light, w, textureLoad(tex, q).rgb);
             if with_direct {
