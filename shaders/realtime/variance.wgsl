@@ -71,6 +71,10 @@ fn spread_variance(s: Spread, wsum: f32, n: f32, boost: f32) -> f32 {
     return max(s.s2 / wsum - mu * mu, 0.0) * (1.0 + (boost - 1.0) / (n * n));
 }
 
+// The history from which the direct light's variance is its own moments'
+// (two samples are the fewest that have a spread).
+const DIRECT_MOMENTS_FROM: f32 = 2.0;
+
 struct Estimate {
     light: vec4f,
     direct: vec4f,
@@ -133,24 +137,34 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
             var_d = spread_variance(direct, wsum, n, params.direct_boost);
         }
     }
-    if !spatial_variance {
+    // The direct light's own moments stand for its variance from 2 samples
+    // on: they tell noise (a penumbra's samples disagree) from an edge
+    // (its pixels' samples agree), which the neighbours' spread cannot.
+    let temporal_direct = with_direct && n >= DIRECT_MOMENTS_FROM;
+    if !spatial_variance || temporal_direct {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
         // only the noise's level is blurred.
-        var_mean = 0.0;
-        var_d = 0.0;
+        var sum = 0.0;
+        var sum_d = 0.0;
         let taps = 9u * u32(frame.exact_one);
         var d = vec2i(-1, -1);
         for (var k = 0u; k < taps; k++) {
             let q = clamp(p + d, vec2i(0), size - 1);
             let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
-            var_mean += kernel * textureLoad(tex, q).a;
+            sum += kernel * textureLoad(tex, q).a;
             if with_direct {
-                var_d += kernel * textureLoad(dtex, q).a;
+                sum_d += kernel * textureLoad(dtex, q).a;
             }
             d.x += 1;
             if d.x > 1 {
                 d = vec2i(-1, d.y + 1);
             }
+        }
+        if !spatial_variance {
+            var_mean = sum;
+        }
+        if temporal_direct {
+            var_d = sum_d;
         }
     }
     return Estimate(vec4f(value, var_mean), vec4f(own_d.rgb, var_d));
