@@ -5,7 +5,7 @@
 // moments are noisy); before that, the spread of its 5x5 neighbours' means
 // on the same surface, whose weighted mean also replaces its own while
 // history is shorter than `blur_history` (one or two samples alone are
-// mostly noise), fading out by twice that. Being a mean's variance (of n
+// mostly noise), fading out by three times that. Being a mean's variance (of n
 // samples), it falls as history grows, and with it what the à-trous
 // filter's colour test lets through: a still image tends to the
 // unfiltered mean.
@@ -93,9 +93,9 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     let n = max(textureLoad(illum, p).a, 1.0);
     // The neighbours' spread stands for the variance below min_history;
     // their mean replaces the pixel's below blur_history, then fades out
-    // by 2 blur_history (a sudden stop shows as a burst of noise).
+    // by 3 blur_history (a sudden stop shows as a burst of noise).
     let spatial_variance = n < params.min_history;
-    let blur = clamp(2.0 - n / max(params.blur_history, 1e-6), 0.0, 1.0);
+    let blur = clamp((3.0 - n / max(params.blur_history, 1e-6)) / 2.0, 0.0, 1.0);
     let gp = load_guide(guide, p);
     let size = vec2i(frame.size);
     var value = own.rgb;
