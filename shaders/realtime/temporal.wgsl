@@ -202,8 +202,9 @@ fn temporal_step(pixel: vec2u) -> vec4f {
     let valid = all_finite(l);
     l = select(vec3f(0.0), max(l, vec3f(0.0)), valid);
     // The light the hit received directly stays out of the filtered
-    // signal (SPLIT_DIRECT): R holds it unfiltered, and the filter sees
-    // the rest, the noisier light of later bounces.
+    // signal (SPLIT_DIRECT): R holds it, entry `split` hands it to a filter
+    // of its own, and this one sees the rest, the noisier light of later
+    // bounces.
     let d = select(vec3f(0.0), min(hit.direct, l), surface);
     let i_s = demodulate(l - d, a);
     let lum_s = luminance(i_s);

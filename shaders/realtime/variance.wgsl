@@ -95,6 +95,10 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     // their mean replaces the pixel's below blur_history, then fades out
     // by 3 blur_history (a sudden stop shows as a burst of noise).
     let spatial_variance = n < params.min_history;
+    // The direct light's own moments stand for its variance from 2 samples
+    // on: they tell noise (a penumbra's samples disagree) from an edge
+    // (its pixels' samples agree), which the neighbours' spread cannot.
+    let temporal_direct = with_direct && n >= DIRECT_MOMENTS_FROM;
     let blur = clamp((3.0 - n / max(params.blur_history, 1e-6)) / 2.0, 0.0, 1.0);
     let gp = load_guide(guide, p);
     let size = vec2i(frame.size);
@@ -106,8 +110,9 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
         // out (a loop of 25 or 9 trips where a lane needs it, none
         // elsewhere: a CPU driver runs a loop as long as its busiest lane).
         let r = select(1, 2, spatial_variance);
-        let taps = select(0u, u32((2 * r + 1) * (2 * r + 1)), gp.surface) * u32(frame.exact_one);
-        let centre = (taps - 1u) / 2u;
+        let side = u32(2 * r + 1);
+        let taps = select(0u, side * side, gp.surface) * u32(frame.exact_one);
+        let centre = side * side / 2u;
         var light = Spread(vec3f(0.0), 0.0, 0.0);
         var direct = Spread(vec3f(0.0), 0.0, 0.0);
         var wsum = 0.0;
@@ -126,21 +131,21 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
                 d = vec2i(-r, d.y + 1);
             }
             light = spread_add(light, w, textureLoad(tex, q).rgb);
-            if with_direct {
+            if with_direct && !temporal_direct {
                 direct = spread_add(direct, w, textureLoad(dtex, q).rgb);
             }
             wsum += w;
         }
         if wsum > 0.0 {
             value = mix(value, light.sum / wsum, blur);
-            var_mean = spread_variance(light, wsum, n, params.boost);
-            var_d = spread_variance(direct, wsum, n, params.direct_boost);
+            if spatial_variance {
+                var_mean = spread_variance(light, wsum, n, params.boost);
+            }
+            if with_direct && !temporal_direct {
+                var_d = spread_variance(direct, wsum, n, params.direct_boost);
+            }
         }
     }
-    // The direct light's own moments stand for its variance from 2 samples
-    // on: they tell noise (a penumbra's samples disagree) from an edge
-    // (its pixels' samples agree), which the neighbours' spread cannot.
-    let temporal_direct = with_direct && n >= DIRECT_MOMENTS_FROM;
     if !spatial_variance || temporal_direct {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
         // only the noise's level is blurred.
@@ -151,8 +156,10 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
         for (var k = 0u; k < taps; k++) {
             let q = clamp(p + d, vec2i(0), size - 1);
             let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
-            sum += kernel * textureLoad(tex, q).a;
-            if with_direct {
+            if !spatial_variance {
+                sum += kernel * textureLoad(tex, q).a;
+            }
+            if temporal_direct {
                 sum_d += kernel * textureLoad(dtex, q).a;
             }
             d.x += 1;
