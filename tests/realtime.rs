@@ -208,3 +208,57 @@ fn the_direct_lights_filter_lowers_its_first_frames_error_in_penumbrae() {
     eprintln!("{name}, direct light alone, first frame against 256 frames: relMSE {filtered:.5} filtered, {raw:.5} unfiltered");
     assert!(filtered < 0.5 * raw, "the direct light's filter took its first frame's relMSE from {raw:.5} only to {filtered:.5}");
 }
+
+/// A red coat (specular share 0.5 over a diffuse base) filling most of
+/// the view, lit by a sphere light it reflects, inside a grey box.
+const COAT_SCENE: &str = r#"Scene(
+    camera: Camera(position: (0.0, 1.0, 2.2), target: (0.0, 1.0, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 50.0),
+    background: (0.0, 0.0, 0.0),
+    materials: {
+        "grey": Material(albedo: (0.6, 0.6, 0.6)),
+        "coat": Material(albedo: (0.7, 0.12, 0.08), specular: 0.5),
+    },
+    objects: [
+        Quad(vertices: [(-2.0, 0.0, -2.0), (-2.0, 0.0, 3.0), (2.0, 0.0, 3.0), (2.0, 0.0, -2.0)], material: "grey"),
+        Quad(vertices: [(-2.0, 0.0, -2.0), (2.0, 0.0, -2.0), (2.0, 2.5, -2.0), (-2.0, 2.5, -2.0)], material: "grey"),
+        Quad(vertices: [(-2.0, 2.5, -2.0), (2.0, 2.5, -2.0), (2.0, 2.5, 3.0), (-2.0, 2.5, 3.0)], material: "grey"),
+        Sphere(center: (0.0, 1.0, 0.0), radius: 0.8, material: "coat"),
+    ],
+    lights: [
+        SphereLight(center: (0.9, 2.0, 1.4), radius: 0.2, radiance: (20.0, 19.0, 17.0)),
+    ],
+)"#;
+
+#[test]
+fn a_coats_two_lobes_taken_together_keep_the_mean_and_lower_the_noise() {
+    // SPLIT_LOBES (shared/path.wgsl): a coat's recorded hit takes both its
+    // lobes, each weighted by its share, where the path tracer picks one.
+    let Some(gpu) = gpu() else { return };
+    let reference = still(gpu, scene_from(COAT_SCENE), &repo().join("passes/pathtrace.ron"), 256, 0.0);
+    let split = still(gpu, scene_from(COAT_SCENE), &realtime(), 256, 0.0);
+    let (l_ref, l_rt) = (mean_luminance(&reference), mean_luminance(&split));
+    eprintln!("coat, 256 frames each: mean luminance {l_rt:.5} against the path tracer's {l_ref:.5}");
+    assert!((l_rt / l_ref - 1.0).abs() < 0.02, "mean luminance {l_rt} against the path tracer's {l_ref}: biased");
+    // One frame's samples, with the lobes split and without, against the
+    // converged image (relMSE): the split's is far smaller (no coin
+    // between a light's reflection and the diffuse base).
+    let spread = |split: bool| {
+        let text = std::fs::read_to_string(realtime()).unwrap_or_else(|e| panic!("{e}"));
+        let graph = scratch("coat-lobes").join(format!("realtime-{split}.ron"));
+        std::fs::write(&graph, text.replace("SPLIT_LOBES: 1", if split { "SPLIT_LOBES: 1" } else { "SPLIT_LOBES: 0" }))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let scene = scene_from(COAT_SCENE);
+        let compiled = compile(&scene, &graph, &keep(&["radiance"]));
+        let mut s = session(gpu, scene, &compiled, SIZE, 1);
+        s.frame(0.0);
+        let img = read(&s, "radiance");
+        let error = img.data.iter().zip(&reference.data).map(|(p, r)| {
+            let (l, lr) = (luminance(p), luminance(r));
+            (l - lr) * (l - lr) / (lr * lr + 1e-2)
+        });
+        error.sum::<f64>() / img.data.len() as f64
+    };
+    let (one, both) = (spread(false), spread(true));
+    eprintln!("one frame's samples, relMSE: one lobe at random {one:.3}, both lobes {both:.3}");
+    assert!(both < 0.8 * one, "both lobes' samples: relMSE {both:.3}, one lobe's {one:.3}");
+}

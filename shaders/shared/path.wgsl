@@ -54,6 +54,28 @@ var<private> path_primary_ng: vec3f;
 // surface (an object that does not glow), else 0.
 var<private> path_primary_albedo: vec4f;
 
+// With SPLIT_LOBES, the recorded first hit of a surface that is partly
+// specular (a specular share between 0 and 1: a coat over a diffuse
+// base) takes both lobes instead of one chosen at random: the path goes
+// on along the diffuse lobe, weighted by its share (1 - specular), and
+// once it ends, the same loop traces the specular lobe's path from the
+// hit, weighted by its share. A coat's reflection of a light is then in
+// every sample, not in half of them at twice the brightness: that coin's
+// noise was the largest a denoiser saw on such a surface. The specular
+// lobe's pending path: its origin, direction, throughput and ray cone.
+override SPLIT_LOBES: bool = false;
+var<private> path_lobe_pending: bool;
+var<private> path_lobe_o: vec3f;
+var<private> path_lobe_dir: vec3f;
+var<private> path_lobe_throughput: vec3f;
+var<private> path_lobe_cone: vec2f;
+// Where the specular lobe's path began: the result then (with
+// SPLIT_DIRECT, what it brings is kept apart with the direct light, which
+// the denoiser filters by its own variance, its mean never blurred: a
+// coat's reflection stays as sharp as its noise allows).
+var<private> path_lobe_from: vec3f;
+var<private> path_lobe_traced: bool;
+
 // With SPLIT_DIRECT, what the recorded first hit's light samples bring
 // (next-event estimation, as multiple importance sampling weighs it) is
 // also kept apart, in `path_direct`: the path's result after them less
@@ -263,7 +285,22 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     }
     // (A metallic-roughness surface's specular share is a stand-in for
     // other passes: its whole BRDF is sampled below.)
-    if SCENE_SPECULAR && u_lobe < m.specular && !is_metal_rough(m) {
+    // Both lobes at a recorded coat (SPLIT_LOBES): the diffuse one below,
+    // weighted by its share, the specular one traced after the path ends.
+    let split = SPLIT_LOBES && SCENE_SPECULAR && recording && m.specular > 0.0 && m.specular < 1.0 && !is_metal_rough(m);
+    let diffuse_share = select(1.0, 1.0 - m.specular, split);
+    if split {
+        var dir = reflect(rd, n);
+        if m.roughness > 0.0 {
+            dir = sample_glossy(dir, n, m.roughness, rand2(rng));
+        }
+        path_lobe_pending = !(dot(dir, ng) <= 0.0);
+        path_lobe_o = o;
+        path_lobe_dir = dir;
+        path_lobe_throughput = (*st).throughput * m.albedo * m.specular;
+        path_lobe_cone = vec2f((*st).cone.x, max((*st).cone.y, m.roughness));
+    }
+    if SCENE_SPECULAR && u_lobe < m.specular && !is_metal_rough(m) && !split {
         var dir = reflect(rd, n);
         if m.roughness > 0.0 {
             dir = sample_glossy(dir, n, m.roughness, select(rand2(rng), path_bn.a.xy, blue));
@@ -304,7 +341,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
                     continue;
                 }
                 // The BRDF toward the light and the pdf of sampling it.
-                var f = m.albedo / PI;
+                var f = m.albedo * (diffuse_share / PI);
                 var f_pdf = cos_n / PI;
                 if metal_rough {
                     f = mr_eval(mr, n, -rd, s.dir);
@@ -343,7 +380,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             let cos_d = dot(n, dir);
             go_on = !(dot(dir, ng) <= 0.0 || cos_d <= 0.0);
             if go_on {
-                (*st).throughput *= m.albedo;
+                (*st).throughput *= m.albedo * diffuse_share;
                 (*st).bsdf_pdf = cos_d / PI;
                 (*st).rd = dir;
                 (*st).cone.y = max((*st).cone.y, 1.0);
@@ -365,6 +402,29 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     return out;
 }
 
+// The path state of a coat's specular lobe (SPLIT_LOBES), its ray the
+// one just traced: the path goes on from the coat's bounce, at depth 1.
+fn start_lobe(st: ptr<function, PathState>) {
+    (*st).throughput = path_lobe_throughput;
+    (*st).rd = path_lobe_dir;
+    (*st).bsdf_pdf = -1.0;
+    (*st).prev_p = path_lobe_o;
+    (*st).cone = path_lobe_cone;
+    (*st).direct_apart = false;
+    (*st).depth = 1u;
+    path_lobe_from = (*st).result;
+    path_lobe_traced = true;
+}
+
+// The first hit's direct light (SPLIT_DIRECT) of a path that ended with
+// `result`: its light samples' share and its coat's specular lobe's.
+fn path_direct_total(result: vec3f) -> vec3f {
+    if path_direct_state == 3u && path_lobe_traced {
+        return path_direct + (result - path_lobe_from);
+    }
+    return path_direct;
+}
+
 // The radiance arriving at `ro_in` from direction -`rd_in`: at most
 // `max_depth` bounces, Russian roulette from bounce `rr_depth`. Without
 // `first_emission`, a light hit first counts nothing (what the hybrid's
@@ -378,18 +438,38 @@ fn trace_path(flat: ptr<function, FlatScene>, ro_in: vec3f, rd_in: vec3f, spread
     // bounce's at the end of the bounce before, with that bounce's last
     // shadow ray (trace_pair: one loop over a flat scene for both).
     var hit = trace_closest(ro_in, rd_in, 3.0e38);
+    path_lobe_pending = false;
+    path_lobe_traced = false;
     for (var depth = 0u; depth < max_depth; depth++) {
         st.depth = depth;
         let b = path_bounce(&st, hit, rr_depth, first_emission, rng);
-        if b.ended {
+        // A path that ends here (or at max_depth) needs no next hit,
+        // unless a coat's specular lobe waits (SPLIT_LOBES): its ray is
+        // then the one traced, in the same loop (a second loop would cost
+        // every lane its body once on a CPU driver).
+        var ray_o = b.o;
+        var ray_d = st.rd;
+        var go_on = b.go_on && depth + 1u < max_depth;
+        let switch_lobe = SPLIT_LOBES && path_lobe_pending && (b.ended || !go_on);
+        if switch_lobe {
+            path_lobe_pending = false;
+            ray_o = path_lobe_o;
+            ray_d = path_lobe_dir;
+            go_on = true;
+        } else if b.ended {
             break;
         }
-        // A path that ends here (or at max_depth) needs no next hit.
-        let next = trace_pair(flat, b.o, st.rd, b.go_on && depth + 1u < max_depth, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
+        let next = trace_pair(flat, ray_o, ray_d, go_on, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
         if !next.blocked {
             st.result += b.shadowed_light;
         }
         end_direct(st.result);
+        if switch_lobe {
+            start_lobe(&st);
+            depth = 0u;
+            hit = next.hit;
+            continue;
+        }
         if !b.go_on {
             break;
         }

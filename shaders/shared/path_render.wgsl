@@ -24,6 +24,8 @@ fn start_first_hit() {
     path_direct = vec3f(0.0);
     path_direct_from = vec3f(0.0);
     path_direct_state = 0u;
+    path_lobe_pending = false;
+    path_lobe_traced = false;
 }
 
 struct Params {
@@ -88,7 +90,10 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         if st.depth < max_depth {
             b = path_bounce(&st, hit, params.rr_depth, true, &rng);
         }
-        let path_done = b.ended || !b.go_on || st.depth + 1u >= max_depth;
+        // A coat's specular lobe waiting (SPLIT_LOBES, shared/path.wgsl)
+        // is this path's next ray once its diffuse lobe's path ends.
+        let switch_lobe = SPLIT_LOBES && path_lobe_pending && (b.ended || !b.go_on || st.depth + 1u >= max_depth);
+        let path_done = (b.ended || !b.go_on || st.depth + 1u >= max_depth) && !switch_lobe;
         let pixel_done = path_done && s + 1u >= spp;
         let next_p = p + lanes;
         let lane_done = pixel_done && next_p >= n;
@@ -99,7 +104,11 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         // The ray to trace: the path's next, or the next path's camera ray.
         var ro = b.o;
         var rd = st.rd;
-        if path_done && !lane_done {
+        if switch_lobe {
+            path_lobe_pending = false;
+            ro = path_lobe_o;
+            rd = path_lobe_dir;
+        } else if path_done && !lane_done {
             if pixel_done {
                 rng = rng_at(rng_key, next_pixel);
                 start_blue_noise(next_pixel, frame.frame_index, rng_key);
@@ -115,7 +124,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         if path_done {
             sum += finite_or_zero(st.result);
             if SPLIT_DIRECT {
-                direct_sum += finite_or_zero(path_direct);
+                direct_sum += finite_or_zero(path_direct_total(st.result));
             }
             s += 1u;
             if pixel_done {
@@ -133,6 +142,8 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             }
             st = new_path(ro, rd, pixel_spread());
             start_first_hit();
+        } else if switch_lobe {
+            start_lobe(&st);
         } else {
             st.depth += 1u;
         }
