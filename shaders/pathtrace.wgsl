@@ -9,5 +9,7 @@
 // pathtrace_gbuffer.wgsl is the same tracer writing a G-buffer too.
 #import path_render
 
-// The first hit goes nowhere (shared/path_render.wgsl).
-fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {}
+// The sample, and the first hit nowhere (shared/path_render.wgsl).
+fn store_sample(pixel: vec2u, radiance_in: vec3f, pos: vec4f, normal: vec4f, ids: vec4u) {
+    textureStore(radiance, pixel, vec4f(radiance_in, 1.0));
+}

@@ -13,7 +13,8 @@
 @group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(3) var gbuf_normal: texture_storage_2d<rgba16float, write>;
 
-fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u) {
+fn store_sample(pixel: vec2u, radiance_in: vec3f, pos: vec4f, normal: vec4f, ids: vec4u) {
+    textureStore(radiance, pixel, vec4f(radiance_in, 1.0));
     textureStore(gbuf_pos, pixel, pos);
     textureStore(gbuf_normal, pixel, normal);
 }

@@ -76,6 +76,16 @@ fn visualize(resource: &str, mut img: ImageF32) -> ImageF32 {
             "gradient" => *p = [p[0], p[1], 0.0, 1.0],
             "rt_illum" | "rt_color" | "rt_albedo" | "filt_in" | "filt_0" | "filt_1" | "filt_2" | "filt_3" | "filt_4" => p[3] = 1.0,
             "rt_geo" => *p = [p[0] * 0.5 + 0.5, p[1] * 0.5 + 0.5, p[2] / 8.0, 1.0],
+            // The real-time path pass's first hit position (f32 bits) and
+            // sample (shared/realtime_common.wgsl, pack_sample): the
+            // sample's green channel, grey (the u32s arrive as f32, which
+            // keeps the exponent and green and blue mantissas exact, not red).
+            "gbuf_sample" | "gbuf_sample_di" => {
+                let w = p[3] as u32;
+                let e = (w >> 24) as i32;
+                let g = if e >= 8 { ((w >> 8) & 0xff) as f32 * 2f32.powi(e - 134) } else { 0.0 };
+                *p = [g, g, g, 1.0];
+            }
             // f32 bits and a packed normal: shown as which pixels the
             // filters treat as a surface (white).
             "guide" => {

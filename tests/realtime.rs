@@ -154,19 +154,24 @@ fn direct_light_alone_passes_the_filter_untouched() {
     let Some(gpu) = gpu() else { return };
     for name in ["cornell.ron", "moving-lights.ron"] {
         let scene = load_scene(name);
-        let compiled = compile(&scene, &realtime(), &keep(&["radiance"]));
+        // (After one frame the history's radiance mean is the sample.)
+        let compiled = compile(&scene, &realtime(), &keep(&["rt_color"]));
         let mut s = session(gpu, scene, &compiled, SIZE, 1);
         direct_only(&mut s, false);
         s.frame(0.0);
         let out = s.read_output().unwrap_or_else(|e| panic!("{e}"));
-        let raw = read(&s, "radiance");
-        // The direct light's 9-bit mantissas (RGB9E5) move up to 0.2% of
-        // it into what the filter smooths.
-        let worst = out.data.iter().zip(&raw.data).map(|(o, r)| (luminance(o) - luminance(r)).abs() / luminance(r).max(1e-2)).fold(0.0, f64::max);
+        let raw = read(&s, "rt_color");
+        // The sample's 8-bit mantissas (shared/realtime_common.wgsl,
+        // pack_sample) and the direct light's 9-bit ones (RGB9E5) differ by
+        // up to a step of the sample's largest channel, and the difference
+        // is what the filter smooths (up to about three steps, 1.2%, in a
+        // pixel): measured against that channel.
+        let largest = |r: &[f32; 4]| f64::from(r[0].max(r[1]).max(r[2]));
+        let worst = out.data.iter().zip(&raw.data).map(|(o, r)| (luminance(o) - luminance(r)).abs() / largest(r).max(1e-2)).fold(0.0, f64::max);
         let lit = raw.data.iter().filter(|p| luminance(p) > 1e-2).count();
-        eprintln!("{name}: {lit} lit pixels; the largest change the filter made {worst:.2e} of a pixel's light");
+        eprintln!("{name}: {lit} lit pixels; the largest change the filter made {worst:.2e} of a pixel's largest channel");
         assert!(lit > SIZE.0 as usize * SIZE.1 as usize / 4, "{name}: too little is lit to test anything");
-        assert!(worst < 0.01, "{name}: the filter changed a pixel by {worst:.3} of its direct light");
+        assert!(worst < 0.03, "{name}: the filter changed a pixel by {worst:.3} of its direct light's largest channel");
     }
 }
 
@@ -248,10 +253,10 @@ fn a_coats_two_lobes_taken_together_keep_the_mean_and_lower_the_noise() {
         std::fs::write(&graph, text.replace("SPLIT_LOBES: 1", if split { "SPLIT_LOBES: 1" } else { "SPLIT_LOBES: 0" }))
             .unwrap_or_else(|e| panic!("{e}"));
         let scene = scene_from(COAT_SCENE);
-        let compiled = compile(&scene, &graph, &keep(&["radiance"]));
+        let compiled = compile(&scene, &graph, &keep(&["rt_color"]));
         let mut s = session(gpu, scene, &compiled, SIZE, 1);
         s.frame(0.0);
-        let img = read(&s, "radiance");
+        let img = read(&s, "rt_color");
         let error = img.data.iter().zip(&reference.data).map(|(p, r)| {
             let (l, lr) = (luminance(p), luminance(r));
             (l - lr) * (l - lr) / (lr * lr + 1e-2)

@@ -5,9 +5,11 @@
 //!
 //! The real-time graph is run with paths of one bounce
 //! (`max_depth: 1`: the path pass then adds only what the camera ray
-//! sees emitted) and without the view through mirrors, so its
-//! `radiance_di` is emission plus direct light, what direct.ron converges
-//! to.
+//! sees emitted) and without the view through mirrors, so its sample
+//! with the resampled direct light added (`gbuf_sample_di`) is emission
+//! plus direct light, what direct.ron converges to. The samples are read
+//! back from the history's running mean of them (`rt_color`): the n-th
+//! frame's is n R_n - (n - 1) R_(n-1).
 
 mod common;
 
@@ -42,6 +44,23 @@ fn frames_of(gpu: &glint::gpu::Gpu, scene: Scene, graph: &std::path::Path, resou
             s.frame(0.0);
             let img = s.read_resource(resource).expect("kept").unwrap_or_else(|e| panic!("{e}"));
             img.data.iter().map(luminance).collect()
+        })
+        .collect()
+}
+
+/// The real-time graph's samples, pixel by pixel (their luminance), in
+/// each of `frames` still frames: from its running mean of them.
+fn samples_of(gpu: &glint::gpu::Gpu, scene: Scene, graph: &std::path::Path, frames: u32) -> Vec<Vec<f64>> {
+    let means = frames_of(gpu, scene, graph, "rt_color", frames);
+    let mut before = vec![0.0; means[0].len()];
+    means
+        .iter()
+        .enumerate()
+        .map(|(k, mean)| {
+            let n = k as f64 + 1.0;
+            let sample = mean.iter().zip(&before).map(|(m, b)| n * m - (n - 1.0) * b).collect();
+            before.clone_from(mean);
+            sample
         })
         .collect()
 }
@@ -93,7 +112,7 @@ fn one_candidate_without_reuse_is_plain_light_sampling() {
     let Some(gpu) = gpu() else { return };
     let plain = direct_realtime("restir-plain", &[("candidates: 4, temporal: 1", "candidates: 1, temporal: 0"), ("spatial: 3", "spatial: 0")]);
     let frames = 96;
-    let (m_rs, v_rs) = pixel_stats(&frames_of(gpu, load_scene("cornell.ron"), &plain, "radiance_di", frames));
+    let (m_rs, v_rs) = pixel_stats(&samples_of(gpu, load_scene("cornell.ron"), &plain, frames));
     // direct.ron's light pass, one sample of the one light a frame.
     let (m_ls, v_ls) = pixel_stats(&frames_of(gpu, load_scene("cornell.ron"), &repo().join("passes/direct.ron"), "lit", frames));
     let (mr, ml) = (average(&m_rs), average(&m_ls));
@@ -134,7 +153,7 @@ fn region_mean(frames: &[Vec<f64>], inside: &[usize]) -> (f64, f64) {
 fn reuse_against_direct(scene: impl Fn() -> Scene, name: &str, frames: u32) -> (f64, f64, f64, (f64, f64)) {
     let gpu = gpu().expect("checked by the caller");
     let graph = direct_realtime(name, &[]);
-    let rs = frames_of(gpu, scene(), &graph, "radiance_di", frames);
+    let rs = samples_of(gpu, scene(), &graph, frames);
     let dr = frames_of(gpu, scene(), &repo().join("passes/direct.ron"), "lit", frames);
     let (m_dr, _) = pixel_stats(&dr);
     let (w, h) = (SIZE.0 as i32, SIZE.1 as i32);

@@ -16,7 +16,8 @@
 // tangent plane). Both weigh the reservoirs by pairwise MIS
 // (shared/restir.wgsl), which keeps the result unbiased. Then one shadow
 // ray toward the chosen sample, its light added to the path pass's
-// radiance; the reservoir is kept for the next frame.
+// sample (`gbuf_sample_out`: gbuf_sample with the sum); the reservoir is kept
+// for the next frame.
 #import restir
 #import path
 #import realtime_common
@@ -34,7 +35,9 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+// The first hit's position and the path's sample (realtime_common.wgsl,
+// pack_position_sample).
+@group(0) @binding(1) var gbuf_sample: texture_storage_2d<rgba32uint, read>;
 // The rest of the first hit (shared/realtime_common.wgsl,
 // pack_first_hit): its normal, and its error bound, what a surface's
 // shadow rays are offset by.
@@ -52,20 +55,22 @@ struct Params {
 @group(0) @binding(11) var gradient: texture_storage_2d<rgba32float, read>;
 // `last`:
 @group(0) @binding(7) var reservoir_in: texture_storage_2d<rgba32uint, read>;
-@group(0) @binding(8) var radiance: texture_storage_2d<rgba32float, read>;
 @group(0) @binding(9) var reservoir: texture_storage_2d<rgba32uint, write>;
-@group(0) @binding(10) var radiance_out: texture_storage_2d<rgba32float, write>;
+// gbuf_sample with the direct light added to the sample.
+@group(0) @binding(10) var gbuf_sample_out: texture_storage_2d<rgba32uint, write>;
 
 const CANDIDATE_SALT: u32 = 0x72657331u;
 const SPATIAL_SALT: u32 = 0x72657332u;
+// The repacked sample's rounding (pack_sample).
+const DITHER_SALT: u32 = 0x72657333u;
 
 fn surface_at(q: vec2i) -> Surface {
-    let g = textureLoad(gbuf_pos, q);
+    let g = bitcast<vec3f>(textureLoad(gbuf_sample, q).xyz);
     let t = textureLoad(di_surface, q);
     let ng = oct_to_normal(unpack2x16snorm(t.w));
     let first = unpack_first_hit(textureLoad(gbuf_hit, q));
-    var s = make_surface(g.xyz, first.n, ng, bitcast<vec3f>(t.xyz), first.error);
-    s.valid = s.valid && g.w >= 0.0;
+    var s = make_surface(g, first.n, ng, bitcast<vec3f>(t.xyz), first.error);
+    s.valid = s.valid && !first.miss;
     return s;
 }
 
@@ -166,6 +171,7 @@ fn last(@builtin(global_invocation_id) id: vec3u) {
         direct = shade_reservoir(s, r);
     }
     textureStore(reservoir, id.xy, encode_reservoir(r));
-    let before = textureLoad(radiance, pixel);
-    textureStore(radiance_out, id.xy, vec4f(before.rgb + direct, before.a));
+    let before = unpack_position_sample(textureLoad(gbuf_sample, pixel));
+    var dither = rng_for(id.xy, frame.frame_index, DITHER_SALT, frame.seed);
+    textureStore(gbuf_sample_out, id.xy, pack_position_sample(before.p, before.sample + direct, rand_f32(&dither)));
 }

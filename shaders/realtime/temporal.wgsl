@@ -57,8 +57,9 @@ struct Params {
 override CAMERA_STILL: bool = false;
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var radiance: texture_storage_2d<rgba32float, read>;
-@group(0) @binding(2) var gbuf_pos: texture_storage_2d<rgba32float, read>;
+// The first hit's position and the pixel's sample
+// (shared/realtime_common.wgsl, pack_position_sample).
+@group(0) @binding(2) var gbuf_sample: texture_storage_2d<rgba32uint, read>;
 // The rest of the first hit (shared/realtime_common.wgsl, pack_first_hit).
 @group(0) @binding(3) var gbuf_hit: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(5) var illum_prev: texture_storage_2d<rgba32float, read>;
@@ -193,12 +194,15 @@ fn split(@builtin(global_invocation_id) id: vec3u) {
 
 // The pixel's temporal step; returns the direct light's filter input.
 fn temporal_step(pixel: vec2u) -> vec4f {
-    let g = textureLoad(gbuf_pos, pixel);
+    let ps = unpack_position_sample(textureLoad(gbuf_sample, pixel));
     let hit = unpack_first_hit(textureLoad(gbuf_hit, pixel));
-    let miss = g.w < 0.0;
+    let miss = hit.miss;
+    // The hit and its distance from the camera (-1: a miss, whose xyz is
+    // its ray's direction), as reprojection takes them.
+    let g = vec4f(ps.p, select(length(ps.p - frame.camera.origin), -1.0, miss));
     let surface = !miss && hit.lit;
     let a = select(vec3f(0.0), hit.albedo, surface);
-    var l = textureLoad(radiance, pixel).rgb;
+    var l = ps.sample;
     let valid = all_finite(l);
     l = select(vec3f(0.0), max(l, vec3f(0.0)), valid);
     // The light the hit received directly stays out of the filtered

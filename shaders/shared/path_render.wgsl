@@ -1,17 +1,31 @@
-// The path tracer's passes (thesis 2.4), shared by shaders/pathtrace.wgsl
-// and shaders/pathtrace_gbuffer.wgsl: its params, its radiance output, the
-// `main` and `main_more` entries. The importing shader defines the hook
-// below, which `main` calls once per pixel with the camera ray's first hit
-// (shared/path.wgsl's path_primary_pos / _normal / _ids, kept with
-// FIRST_HIT): pathtrace.wgsl drops it, pathtrace_gbuffer.wgsl stores it
-// as the G-buffer does. So a graph binds the G-buffer only where a pass
-// of it reads one.
-// hook: fn store_first_hit(pixel: vec2u, pos: vec4f, normal: vec4f, ids: vec4u)
+// The path tracer's passes (thesis 2.4), shared by shaders/pathtrace.wgsl,
+// shaders/pathtrace_gbuffer.wgsl and the real-time graphs' path passes:
+// its params, its radiance output, the `main` and `main_more` entries. The
+// importing shader defines the hook below, which `main` calls once per
+// pixel with its sample and the camera ray's first hit (shared/path.wgsl's
+// path_primary_pos / _normal / _ids, kept with FIRST_HIT): pathtrace.wgsl
+// stores the sample in `radiance` and drops the hit, pathtrace_gbuffer.wgsl
+// stores the hit as the G-buffer does, and the real-time path passes pack
+// the sample beside the hit. So a graph binds only what a pass of it
+// reads. (A CPU driver runs a store in `main`'s loop on every trip, under
+// its lane mask: each texel stored there costs about a tenth of the
+// real-time path pass.)
+// hook: fn store_sample(pixel: vec2u, radiance: vec3f, pos: vec4f, normal: vec4f, ids: vec4u)
 // (with SPLIT_DIRECT, `path_pixel_direct` holds the pixel's mean of the
 // first hit's direct light, shared/path.wgsl).
 #import path
 
 var<private> path_pixel_direct: vec3f;
+
+// A uniform number in [0, 1) for pixel `pixel`'s sample this frame, from
+// a stream of its own (the path's numbers stay what they were): what a
+// path pass that packs its sample rounds with (realtime_common.wgsl).
+const SAMPLE_DITHER_SALT: u32 = 0x64697468u;
+
+fn sample_dither(pixel: vec2u) -> f32 {
+    var rng = rng_for(pixel, frame.frame_index, SAMPLE_DITHER_SALT, frame.seed);
+    return rand_f32(&rng);
+}
 
 // A new path: no first hit recorded, no direct light counted.
 fn start_first_hit() {
@@ -128,9 +142,8 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             }
             s += 1u;
             if pixel_done {
-                textureStore(radiance, pixel, vec4f(sum / f32(spp), 1.0));
                 path_pixel_direct = direct_sum / f32(spp);
-                store_first_hit(pixel, path_primary_pos, path_primary_normal, path_primary_ids);
+                store_sample(pixel, sum / f32(spp), path_primary_pos, path_primary_normal, path_primary_ids);
                 if lane_done {
                     break;
                 }

@@ -38,17 +38,18 @@ fn unpack_guide_normal(w: u32) -> vec3f {
     return vec3f(q) * vec3f(2.0 / 2047.0, 2.0 / 2047.0, 2.0 / 1023.0) - 1.0;
 }
 
-// The path pass's first hit beside its position (`gbuf_pos`), in one
-// texel (`gbuf_hit`, rgba32uint), so that the path pass stores two
-// texels a pixel, not three (a CPU driver runs a store in the path loop
-// on every trip, under its lane mask):
+// The path pass's first hit beside its position and sample (`gbuf_sample`,
+// pack_position_sample), in one texel (`gbuf_hit`, rgba32uint), so that
+// the path pass stores two texels a pixel (a CPU driver runs a store in
+// the path loop on every trip, under its lane mask):
 //   x: the shading normal facing the ray, octahedral in two 16-bit snorms
 //      (within about 5e-5; guide's 11-11-10 packing, within 1e-3, moved
 //      a grazing light's shading by percents);
 //   y: the albedo, 10 bits a channel in [0, 1], bit 30 set where what the
 //      hit shows depends on the view, bit 31 where it is a lit surface
 //      (an object that does not glow);
-//   z: the hit's error bound (f32 bits, what its rays are offset by);
+//   z: the hit's error bound (f32 bits, what its rays are offset by;
+//      MISS_ERROR_BITS where the ray hit nothing);
 //   w: the light the hit received directly (SPLIT_DIRECT, shared/path.wgsl;
 //      else 0), shared-exponent RGB9E5.
 // The albedo's and the direct light's rounding cost nothing in the end:
@@ -57,6 +58,14 @@ fn unpack_guide_normal(w: u32) -> vec3f {
 // does not.
 const VIEW_DEPENDENT_BIT: u32 = 0x40000000u;
 const LIT_SURFACE_BIT: u32 = 0x80000000u;
+// The error bound of a miss (-1.0): no bound is negative.
+const MISS_ERROR_BITS: u32 = 0xbf800000u;
+
+// gbuf_hit's error word for a first hit (`pos` its path_primary_pos: w < 0
+// on a miss).
+fn first_hit_error_bits(pos: vec4f, error_bits: u32) -> u32 {
+    return select(error_bits, MISS_ERROR_BITS, pos.w < 0.0);
+}
 
 fn pack_first_hit(normal: vec4f, albedo: vec4f, error_bits: u32, direct: vec3f) -> vec4u {
     let q = vec3u(round(clamp(albedo.rgb, vec3f(0.0), vec3f(1.0)) * 1023.0));
@@ -66,6 +75,7 @@ fn pack_first_hit(normal: vec4f, albedo: vec4f, error_bits: u32, direct: vec3f) 
 
 // What gbuf_hit holds, unpacked.
 struct FirstHit {
+    miss: bool,
     n: vec3f,
     view_dependent: bool,
     lit: bool,
@@ -76,7 +86,7 @@ struct FirstHit {
 
 fn unpack_first_hit(h: vec4u) -> FirstHit {
     let albedo = vec3f(vec3u(h.y & 0x3ffu, (h.y >> 10u) & 0x3ffu, (h.y >> 20u) & 0x3ffu)) / 1023.0;
-    return FirstHit(oct_to_normal(unpack2x16snorm(h.x)), (h.y & VIEW_DEPENDENT_BIT) != 0u, (h.y & LIT_SURFACE_BIT) != 0u, albedo, bitcast<f32>(h.z), unpack_rgb9e5(h.w));
+    return FirstHit(h.z == MISS_ERROR_BITS, oct_to_normal(unpack2x16snorm(h.x)), (h.y & VIEW_DEPENDENT_BIT) != 0u, (h.y & LIT_SURFACE_BIT) != 0u, albedo, bitcast<f32>(h.z), unpack_rgb9e5(h.w));
 }
 
 // RGB in 32 bits: a 9-bit mantissa a channel and a shared 5-bit exponent
@@ -102,6 +112,48 @@ fn pack_rgb9e5(c_in: vec3f) -> u32 {
 fn unpack_rgb9e5(v: u32) -> vec3f {
     let m = vec3f(vec3u(v & 0x1ffu, (v >> 9u) & 0x1ffu, (v >> 18u) & 0x1ffu));
     return m * exp2(f32(i32(v >> 27u) - 24));
+}
+
+// `gbuf_sample` of the real-time graphs (rgba32uint): the first hit's position
+// (f32 bits; a miss's ray direction) and the pixel's sample in w, eight
+// bits a channel under the largest channel's exponent (pack_sample).
+fn pack_position_sample(pos: vec3f, sample: vec3f, u: f32) -> vec4u {
+    return vec4u(bitcast<vec3u>(pos), pack_sample(sample, u));
+}
+
+struct PositionSample {
+    p: vec3f,
+    sample: vec3f,
+}
+
+fn unpack_position_sample(v: vec4u) -> PositionSample {
+    return PositionSample(bitcast<vec3f>(v.xyz), unpack_sample(v.w));
+}
+
+// A radiance sample in 32 bits: an 8-bit mantissa a channel and the f32
+// exponent of the largest (from 2^-119; below, 0). Each channel is
+// rounded down or up at random (`u` uniform in [0, 1)), so its expected
+// value is the sample's: the pixel's mean over frames stays unbiased
+// where rounding to nearest would shift a constant dark channel by up to
+// half a step (1/512 of the largest). Negative and not finite: 0.
+fn pack_sample(c_in: vec3f, u: f32) -> u32 {
+    let c = select(vec3f(0.0), c_in, c_in > vec3f(0.0) & c_in < vec3f(3.0e38));
+    let top = max(c.r, max(c.g, c.b));
+    let e = (bitcast<u32>(top) >> 23u) & 0xffu;
+    if e < 8u {
+        return 0u;
+    }
+    // 2^(134 - e): the largest channel to [128, 256).
+    let scale = bitcast<f32>((261u - e) << 23u);
+    let m = vec3u(min(floor(c * scale + u), vec3f(255.0)));
+    return m.r | (m.g << 8u) | (m.b << 16u) | (e << 24u);
+}
+
+fn unpack_sample(v: u32) -> vec3f {
+    let e = v >> 24u;
+    let m = vec3f(vec3u(v & 0xffu, (v >> 8u) & 0xffu, (v >> 16u) & 0xffu));
+    // 2^(e - 134); e is 0 only for a sample of 0.
+    return m * bitcast<f32>(select(0u, (e - 7u) << 23u, e >= 8u));
 }
 
 fn load_guide(t: texture_storage_2d<rgba32uint, read>, q: vec2i) -> Guide {
