@@ -170,8 +170,11 @@ fn plane_scale(p: Guide, depth_sigma: f32) -> f32 {
 
 // How sharply the normals' test falls: exp(-NORMAL_SHARPNESS |n_p - n_q|^2),
 // which for unit normals is exp(-2 NORMAL_SHARPNESS (1 - cos)), about
-// SVGF's cos^64 near cos 1 (0.0017 against 0.0012 at 26 degrees).
-const NORMAL_SHARPNESS: f32 = 32.0;
+// cos^8 near cos 1: 0.34 at 30 degrees, 0.10 at 45, 3e-4 at 90 (a room's
+// corner). SVGF's cos^64 (32 here) left curved surfaces, whose neighbours'
+// normals differ by a few degrees, almost unfiltered: sharpness 4 lowers
+// every scene's first frame FLIP (docs/realtime.md, "The normals' test").
+const NORMAL_SHARPNESS: f32 = 4.0;
 
 // How much pixel q's surface counts toward pixel p's, times exp(-extra)
 // (one exponential for both surface tests and the caller's own): normals
