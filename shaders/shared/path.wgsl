@@ -402,6 +402,17 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     return out;
 }
 
+// Whether a path that `ends` at this bounce goes on along its coat's
+// specular lobe (SPLIT_LOBES): its next ray is then path_lobe_o,
+// path_lobe_dir, and start_lobe sets up the rest once that ray is traced.
+fn lobe_follows(ends: bool) -> bool {
+    let follows = SPLIT_LOBES && path_lobe_pending && ends;
+    if follows {
+        path_lobe_pending = false;
+    }
+    return follows;
+}
+
 // The path state of a coat's specular lobe (SPLIT_LOBES), its ray the
 // one just traced: the path goes on from the coat's bounce, at depth 1.
 fn start_lobe(st: ptr<function, PathState>) {
@@ -450,9 +461,8 @@ fn trace_path(flat: ptr<function, FlatScene>, ro_in: vec3f, rd_in: vec3f, spread
         var ray_o = b.o;
         var ray_d = st.rd;
         var go_on = b.go_on && depth + 1u < max_depth;
-        let switch_lobe = SPLIT_LOBES && path_lobe_pending && (b.ended || !go_on);
+        let switch_lobe = lobe_follows(b.ended || !go_on);
         if switch_lobe {
-            path_lobe_pending = false;
             ray_o = path_lobe_o;
             ray_d = path_lobe_dir;
             go_on = true;

@@ -106,8 +106,9 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         }
         // A coat's specular lobe waiting (SPLIT_LOBES, shared/path.wgsl)
         // is this path's next ray once its diffuse lobe's path ends.
-        let switch_lobe = SPLIT_LOBES && path_lobe_pending && (b.ended || !b.go_on || st.depth + 1u >= max_depth);
-        let path_done = (b.ended || !b.go_on || st.depth + 1u >= max_depth) && !switch_lobe;
+        let ends = b.ended || !b.go_on || st.depth + 1u >= max_depth;
+        let switch_lobe = lobe_follows(ends);
+        let path_done = ends && !switch_lobe;
         let pixel_done = path_done && s + 1u >= spp;
         let next_p = p + lanes;
         let lane_done = pixel_done && next_p >= n;
@@ -119,7 +120,6 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         var ro = b.o;
         var rd = st.rd;
         if switch_lobe {
-            path_lobe_pending = false;
             ro = path_lobe_o;
             rd = path_lobe_dir;
         } else if path_done && !lane_done {
