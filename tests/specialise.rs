@@ -95,12 +95,13 @@ fn graph_constants_win_over_specialisation() {
     assert!(got.contains(&("SCENE_POINT_LIGHTS".to_string(), 0.0)), "{got:?}");
 }
 
-/// realtime.ron's temporal pass takes a still camera's history from each
-/// pixel's own texel (its CAMERA_STILL pipeline, without the
-/// reprojection's arithmetic): the same image as the generic pipeline's
-/// reprojection, with the scene still and with its lights moving.
+/// realtime.ron's temporal pass runs a pipeline per kind of frame
+/// (src/graph/frame_kind.rs): a first frame's without history, a still
+/// camera's that takes each pixel's own texel instead of reprojecting, a
+/// still scene's without the gradients' tests. The same image as the
+/// generic pipeline's, with the scene still and with its lights moving.
 #[test]
-fn the_denoisers_still_camera_history_is_what_reprojection_gives() {
+fn the_denoisers_per_frame_pipelines_give_the_generic_image() {
     let Some(gpu) = gpu() else { return };
     let path = repo().join("passes/realtime.ron");
     let generic = CompileOptions { no_specialise: true, ..Default::default() };
@@ -117,6 +118,6 @@ fn the_denoisers_still_camera_history_is_what_reprojection_gives() {
             })
             .collect();
         let (stats, _) = flip(&images[1], &images[0]);
-        assert!(stats.mean < 1e-4, "realtime.ron on {name}: still-camera pipeline against generic, FLIP {}", stats.mean);
+        assert!(stats.mean < 1e-4, "realtime.ron on {name}: per-frame pipelines against generic, FLIP {}", stats.mean);
     }
 }

@@ -22,6 +22,11 @@
 #import path
 #import realtime_common
 
+// Set by the engine per frame (src/graph/frame_kind.rs): no last frame's
+// reservoir to read (NO_HISTORY), no gradients to test (SCENE_STILL).
+override SCENE_STILL: bool = false;
+override NO_HISTORY: bool = false;
+
 struct Params {
     candidates: u32, // ui: 1..64 "light candidates a pixel"
     temporal: u32, // ui: 0..1 "reuse last frame's reservoir"
@@ -110,7 +115,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
     // The candidates share this surface: W = w_sum / (M p̂).
     let ok = r.light != NO_SAMPLE && r.p_hat > 0.0;
     r.w = select(0.0, r.w / (r.m * r.p_hat), ok);
-    if params.temporal != 0u && frame.history_frames > 0u {
+    if params.temporal != 0u && !NO_HISTORY && frame.history_frames > 0u {
         let then = project(frame.prev_camera, s.p);
         let q = vec2i(floor(then.xy));
         let inside = then.z > 0.0 && all(q >= vec2i(0)) && all(q < vec2i(frame.size));
@@ -127,7 +132,7 @@ fn main(@builtin(global_invocation_id) id: vec3u) {
             // stays dark, then fades in over its history): cut it as
             // temporal.wgsl cuts the denoiser's history, to (1 - g lambda)
             // / (g lambda) times this frame's candidates.
-            if frame.epoch_frames == 0u && params.gradient_gain > 0.0 {
+            if !SCENE_STILL && frame.epoch_frames == 0u && params.gradient_gain > 0.0 {
                 let lambda = min(params.gradient_gain * changed_share(gradient, then.xy, false), 1.0);
                 m_max = min(m_max, f32(candidates) * (1.0 - lambda) / max(lambda, 1e-6));
             }

@@ -49,12 +49,17 @@ struct Params {
     gradient_gain: f32, // ui: 0..16 "gradient gain (0: gradients off)"
 }
 
-// Set by the engine in frames whose camera is bit for bit last frame's
-// (src/graph/pipelines.rs): each pixel's history is then its own texel,
-// and the reprojection's arithmetic is not compiled in (a CPU driver runs
-// both sides of a branch under lane masks: at 1280x720 a still frame's
-// pass takes 0.62x the time with this pipeline).
+// Set by the engine per frame (src/graph/frame_kind.rs), each compiling
+// out code whose branch the frame decides (a CPU driver runs both sides of
+// a branch under lane masks). CAMERA_STILL: the camera is bit for bit
+// last frame's, so each pixel's history is its own texel, and the
+// reprojection's arithmetic is not compiled in (at 1280x720 a still
+// frame's pass takes 0.62x the time). SCENE_STILL: the scene did not
+// change, so no history is tested against gradients (0.75x). NO_HISTORY:
+// a first frame, with no history to read.
 override CAMERA_STILL: bool = false;
+override SCENE_STILL: bool = false;
+override NO_HISTORY: bool = false;
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The first hit's position and the pixel's sample
@@ -81,7 +86,7 @@ override CAMERA_STILL: bool = false;
 // Whether the scene changed since last frame, with a last frame in the
 // history (a new session's first frame has none).
 fn scene_changed() -> bool {
-    return frame.epoch_frames == 0u && frame.history_frames > 0u;
+    return !SCENE_STILL && !NO_HISTORY && frame.epoch_frames == 0u && frame.history_frames > 0u;
 }
 
 // A pixel's history, or this frame's sample as one.
@@ -215,7 +220,7 @@ fn temporal_step(pixel: vec2u) -> vec4f {
     let lum_d = luminance(demodulate(d, a));
 
     var h = no_state();
-    if frame.history_frames > 0u {
+    if !NO_HISTORY && frame.history_frames > 0u {
         if CAMERA_STILL {
             h = still_history(pixel, g, hit.n);
         } else {
@@ -226,7 +231,7 @@ fn temporal_step(pixel: vec2u) -> vec4f {
     if params.max_history > 0u {
         n = min(n, f32(params.max_history));
     }
-    if frame.epoch_frames == 0u && params.moving_history > 0u {
+    if scene_changed() && params.moving_history > 0u {
         n = min(n, f32(params.moving_history));
     }
     if scene_changed() && params.gradient_gain > 0.0 && n > 0.0 {

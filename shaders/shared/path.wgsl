@@ -287,7 +287,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     // other passes: its whole BRDF is sampled below.)
     // Both lobes at a recorded coat (SPLIT_LOBES): the diffuse one below,
     // weighted by its share, the specular one traced after the path ends.
-    let split = SPLIT_LOBES && SCENE_SPECULAR && recording && m.specular > 0.0 && m.specular < 1.0 && !is_metal_rough(m);
+    let split = SPLIT_LOBES && SCENE_COATS && SCENE_SPECULAR && recording && m.specular > 0.0 && m.specular < 1.0 && !is_metal_rough(m);
     let diffuse_share = select(1.0, 1.0 - m.specular, split);
     if split {
         var dir = reflect(rd, n);
@@ -406,7 +406,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
 // specular lobe (SPLIT_LOBES): its next ray is then path_lobe_o,
 // path_lobe_dir, and start_lobe sets up the rest once that ray is traced.
 fn lobe_follows(ends: bool) -> bool {
-    let follows = SPLIT_LOBES && path_lobe_pending && ends;
+    let follows = SPLIT_LOBES && SCENE_COATS && path_lobe_pending && ends;
     if follows {
         path_lobe_pending = false;
     }

@@ -171,6 +171,9 @@ override SCENE_MESHES: bool = true;
 override SCENE_POINT_LIGHTS: bool = true;
 override SCENE_AREA_LIGHTS: bool = true;
 override SCENE_SPECULAR: bool = true;
+// Some material is a coat: a specular share between 0 and 1 over a
+// diffuse base, not metallic-roughness (shared/path.wgsl, SPLIT_LOBES).
+override SCENE_COATS: bool = true;
 // A sphere light may hold a shading point inside it (src/scene/specialise.rs).
 override SCENE_INSIDE_LIGHTS: bool = true;
 override SCENE_ONE_LIGHT: bool = false;

@@ -18,6 +18,7 @@ use crate::error::UserError;
 use crate::format::TexFormat;
 use crate::gpu::timing::PassTimer;
 use crate::gpu::Gpu;
+use crate::graph::frame_kind::FrameKind;
 use crate::graph::pipelines::{wgpu_format, CachedPipeline};
 use crate::graph::desc::RunMode;
 use crate::graph::runs::{RunGpu, RunState, RUN_BYTES};
@@ -139,10 +140,10 @@ pub struct Executor {
     run_records: Option<wgpu::Buffer>,
     /// Textures taken over from the executor this one replaced.
     pub textures_kept: usize,
-    /// Whether this frame's camera is bit for bit last frame's: passes
-    /// whose shader declares CAMERA_STILL then run its still pipeline. The
-    /// session sets it before each frame.
-    pub camera_still: bool,
+    /// What kind of frame this is: passes whose shader declares its
+    /// per-frame constants run the pipeline made for it
+    /// (graph/frame_kind.rs). The session sets it before each frame.
+    pub frame_kind: FrameKind,
     /// Whether this frame has a last frame in its history (passes that
     /// run `OnSceneChangeWithHistory` need one). The session sets it
     /// before each frame.
@@ -354,7 +355,7 @@ impl Executor {
         // layout is the same, so kept history textures stay in step.
         let parity = previous.filter(|p| p.schedule.flips_parity == schedule.flips_parity).map_or(0, |p| p.parity);
         let runs = vec![RunState::default(); passes.len()];
-        Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, camera_still: false, has_history: false })
+        Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, frame_kind: FrameKind::GENERIC, has_history: false })
     }
 
     /// Writes pass `pass`'s packed params (after `PassParams::set`).
@@ -372,7 +373,7 @@ impl Executor {
             enc.copy_buffer_to_buffer(records, record * RUN_BYTES, run, 0, RUN_BYTES);
         }
         let bind_groups = &p.bind_groups[usize::from(self.parity)];
-        let (entry, listed) = p.pipeline.for_frame(self.camera_still);
+        let (entry, listed) = p.pipeline.for_frame(self.frame_kind);
         // A second, indirect dispatch: the listed entry over the texels the
         // entry listed (a work list, emptied first), or the entry again
         // over the chunks of a tile pool its invocations left.

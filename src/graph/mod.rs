@@ -6,6 +6,7 @@ pub mod compile;
 pub mod desc;
 pub mod edit;
 pub mod executor;
+pub mod frame_kind;
 pub mod params;
 pub mod pipelines;
 pub mod report;

@@ -17,6 +17,7 @@ use std::sync::Arc;
 use crate::error::UserError;
 use crate::format::TexFormat;
 use crate::graph::schedule::{ResolvedBinding, ScheduledPass};
+use crate::graph::frame_kind::{self, Declared, FrameKind, FRAME_CONSTANTS};
 use crate::graph::CompiledGraph;
 use crate::shader::{BindingKind, SampleType, Shader, StorageAccess};
 
@@ -32,31 +33,28 @@ pub struct PipelineKey {
     constants: Vec<(String, u64)>,
 }
 
-/// The override a shader declares to be told, per frame, that the camera
-/// is bit for bit where it was last frame (shaders/accumulate.wgsl): its
-/// pipelines are built twice, and the executor picks the one that fits
-/// the frame (`Executor::camera_still`).
-pub const CAMERA_STILL: &str = "CAMERA_STILL";
-
 /// A pipeline and the bind group layouts it was made with.
 pub struct CachedPipeline {
     /// The pass's entry point.
     pub pipeline: wgpu::ComputePipeline,
     /// The pass's `listed` entry, with the same layout.
     pub listed: Option<wgpu::ComputePipeline>,
-    /// Both again with CAMERA_STILL set, where the shader declares it.
-    pub still: Option<(wgpu::ComputePipeline, Option<wgpu::ComputePipeline>)>,
+    /// Which per-frame constants the shader declares (frame_kind.rs).
+    pub declared: Declared,
+    /// Both again per kind of frame the shader tells apart
+    /// (`FrameKind::variants`).
+    pub variants: Vec<(FrameKind, wgpu::ComputePipeline, Option<wgpu::ComputePipeline>)>,
     /// Bind group layouts by group index.
     pub layouts: BTreeMap<u32, wgpu::BindGroupLayout>,
 }
 
 impl CachedPipeline {
-    /// The entry and listed-entry pipelines for a frame whose camera is
-    /// (`camera_still`) or is not where it was last frame.
-    pub fn for_frame(&self, camera_still: bool) -> (&wgpu::ComputePipeline, Option<&wgpu::ComputePipeline>) {
-        match &self.still {
-            Some((entry, listed)) if camera_still => (entry, listed.as_ref()),
-            _ => (&self.pipeline, self.listed.as_ref()),
+    /// The entry and listed-entry pipelines for a frame of this kind.
+    pub fn for_frame(&self, kind: FrameKind) -> (&wgpu::ComputePipeline, Option<&wgpu::ComputePipeline>) {
+        let seen = kind.seen_by(self.declared);
+        match self.variants.iter().find(|(k, _, _)| *k == seen) {
+            Some((_, entry, listed)) => (entry, listed.as_ref()),
+            None => (&self.pipeline, self.listed.as_ref()),
         }
     }
 }
@@ -361,23 +359,27 @@ fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants:
             cache: None,
         }))
     };
+    let declared = frame_kind::declared(shader.info.overrides.iter().map(|o| o.name.as_str()));
     let built = (|| {
         let pipeline = make(&sp.entry, &constants)?;
         let listed = sp.listed.as_deref().map(|e| make(e, &constants)).transpose()?;
-        let still = match shader.info.overrides.iter().any(|o| o.name == CAMERA_STILL) {
-            false => None,
-            true => {
-                let mut c: Vec<(&str, f64)> = constants.iter().copied().filter(|(k, _)| *k != CAMERA_STILL).collect();
-                c.push((CAMERA_STILL, 1.0));
-                Some((make(&sp.entry, &c)?, sp.listed.as_deref().map(|e| make(e, &c)).transpose()?))
-            }
-        };
-        Ok::<_, UserError>((pipeline, listed, still))
+        // One more pair per kind of frame the shader tells apart, the
+        // per-frame constants set by the engine, never by the graph.
+        let generic: Vec<(&str, f64)> = constants.iter().copied().filter(|(k, _)| !FRAME_CONSTANTS.contains(k)).collect();
+        let variants = FrameKind::variants(declared)
+            .into_iter()
+            .map(|kind| {
+                let mut c = generic.clone();
+                c.extend(kind.constants());
+                Ok((kind, make(&sp.entry, &c)?, sp.listed.as_deref().map(|e| make(e, &c)).transpose()?))
+            })
+            .collect::<Result<Vec<_>, UserError>>()?;
+        Ok::<_, UserError>((pipeline, listed, variants))
     })();
     let driver_error = pollster::block_on(scope.pop());
-    let (pipeline, listed, still) = built?;
+    let (pipeline, listed, variants) = built?;
     if let Some(e) = driver_error {
         return Err(UserError::new(format!("pass `{}` ({}): the GPU driver rejected the pipeline: {e}", sp.name, shader_location(sp, shader))));
     }
-    Ok(CachedPipeline { pipeline, listed, still, layouts })
+    Ok(CachedPipeline { pipeline, listed, declared, variants, layouts })
 }

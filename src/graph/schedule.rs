@@ -388,7 +388,7 @@ pub struct Schedule {
     /// that declares them (empty with `--no-specialise`).
     pub specialisations: Vec<crate::scene::specialise::Specialisation>,
     /// False with `--no-specialise`: then neither the scene's constants nor
-    /// the per-frame CAMERA_STILL pipelines are used.
+    /// the per-frame pipelines (graph/frame_kind.rs) are used.
     pub specialise: bool,
 }
 

@@ -511,11 +511,13 @@ fn missing_constant() {
 }
 
 #[test]
-fn the_engines_per_frame_constant_is_not_the_graphs() {
-    let mut shader = constants_shader();
-    shader.overrides.push(OverrideInfo { name: "CAMERA_STILL".into(), scalar: ScalarType::Bool, has_default: true });
-    let e = fail_with(&with_constants("SCALE: 1.0, CAMERA_STILL: 1"), &[shader]);
-    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `CAMERA_STILL` is set by the engine per frame"]);
+fn the_engines_per_frame_constants_are_not_the_graphs() {
+    for name in crate::graph::frame_kind::FRAME_CONSTANTS {
+        let mut shader = constants_shader();
+        shader.overrides.push(OverrideInfo { name: name.into(), scalar: ScalarType::Bool, has_default: true });
+        let e = fail_with(&with_constants(&format!("SCALE: 1.0, {name}: 1")), &[shader]);
+        check(&e, ErrorKind::BadParam, Some("a"), None, &[&format!("constant `{name}` is set by the engine per frame")]);
+    }
 }
 
 #[test]

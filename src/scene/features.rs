@@ -85,6 +85,9 @@ pub struct SceneFeatures {
     pub single_sided: bool,
     /// Some object's material is glTF's metallic-roughness (src/brdf.rs).
     pub metal_rough: bool,
+    /// Some object's material is a coat: a specular share between 0 and
+    /// 1 over a diffuse base, not metallic-roughness.
+    pub coats: bool,
     /// How many lights (point and sphere); `u32::MAX` in `all()`.
     pub lights: u32,
     /// Rays test every primitive instead of walking a BVH (at most
@@ -121,6 +124,7 @@ impl SceneFeatures {
             environment: true,
             single_sided: true,
             metal_rough: true,
+            coats: true,
             lights: u32::MAX,
             flat: false,
             enclosing_lights: true,

@@ -306,10 +306,11 @@ impl<'a, 'l> Builder<'a, 'l> {
             }
             features.point_lights = true;
         }
-        let (specular, emissive, metal_rough) = self.used_material_features();
-        features.specular = specular;
-        features.emissive = emissive;
-        features.metal_rough = metal_rough;
+        let used = self.used_material_features();
+        features.specular = used.specular;
+        features.emissive = used.emissive;
+        features.metal_rough = used.metal_rough;
+        features.coats = used.coats;
         let triangles = || self.meshes.iter().flat_map(|m| &m.triangles);
         let textures_of = |t: &LocalTriangle| self.material_textures.get(t.material as usize);
         let used = |f: &dyn Fn(&MaterialTextures) -> bool| triangles().any(|t| textures_of(t).is_some_and(f));
@@ -584,9 +585,9 @@ impl<'a, 'l> Builder<'a, 'l> {
         }
     }
 
-    /// (specular, emissive, metallic-roughness) over the materials that
-    /// objects use; sphere lights' own materials do not count.
-    fn used_material_features(&mut self) -> (bool, bool, bool) {
+    /// What the materials that objects use have; sphere lights' own
+    /// materials do not count.
+    fn used_material_features(&mut self) -> UsedMaterials {
         let mut used = vec![false; self.materials.len()];
         let spheres = self
             .world
@@ -603,14 +604,24 @@ impl<'a, 'l> Builder<'a, 'l> {
                 *u = true;
             }
         }
-        let mut flags = (false, false, false);
+        let mut flags = UsedMaterials::default();
         for (m, _) in self.materials.iter().zip(&used).filter(|(_, u)| **u) {
-            flags.0 |= m.specular > 0.0;
-            flags.1 |= m.emission.iter().any(|&e| e > 0.0);
-            flags.2 |= m.is_metal_rough();
+            flags.specular |= m.specular > 0.0;
+            flags.emissive |= m.emission.iter().any(|&e| e > 0.0);
+            flags.metal_rough |= m.is_metal_rough();
+            flags.coats |= m.specular > 0.0 && m.specular < 1.0 && !m.is_metal_rough();
         }
         flags
     }
+}
+
+/// What the materials objects use have (`SceneFeatures`).
+#[derive(Default)]
+struct UsedMaterials {
+    specular: bool,
+    emissive: bool,
+    metal_rough: bool,
+    coats: bool,
 }
 
 /// A RON object's rotation: degrees about x, then y, then z.

@@ -53,6 +53,10 @@ pub const SCENE_DIRECTIONAL_LIGHTS: &str = "SCENE_DIRECTIONAL_LIGHTS";
 /// Whether some material is alpha-tested (shared/textures.wgsl, alpha_passes).
 pub const SCENE_ALPHA_MASK: &str = "SCENE_ALPHA_MASK";
 
+/// Whether some material is a coat, a specular share between 0 and 1
+/// (shared/path.wgsl, SPLIT_LOBES).
+pub const SCENE_COATS: &str = "SCENE_COATS";
+
 /// Whether some material is glTF's metallic-roughness (shared/brdf.wgsl).
 pub const SCENE_METALLIC_ROUGHNESS: &str = "SCENE_METALLIC_ROUGHNESS";
 
@@ -83,12 +87,13 @@ pub const SCENE_ENVIRONMENT: &str = "SCENE_ENVIRONMENT";
 pub const SCENE_SINGLE_SIDED: &str = "SCENE_SINGLE_SIDED";
 
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 21] = [
+pub const GENERIC: [(&str, bool); 22] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
     (SCENE_AREA_LIGHTS, true),
     (SCENE_SPECULAR, true),
+    (SCENE_COATS, true),
     (SCENE_ONE_LIGHT, false),
     (SCENE_INSIDE_LIGHTS, true),
     (SCENE_TEXTURES, true),
@@ -126,6 +131,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     }
     if !f.specular {
         off(SCENE_SPECULAR, "no specular material: reflection depth 0, mirror bounces compiled out");
+    }
+    if !f.coats {
+        off(SCENE_COATS, "no coat (a specular share between 0 and 1): a coat's two lobes compiled out");
     }
     if f.lights == 1 {
         out.push(Specialisation { constant: SCENE_ONE_LIGHT, value: true, reason: "one light: no light loop" });
@@ -197,16 +205,16 @@ mod tests {
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_COATS, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_COATS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // One that may hold a surface or the camera keeps sampling from inside.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_COATS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_COATS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
     }
 
     #[test]

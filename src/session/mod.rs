@@ -26,6 +26,7 @@ use crate::gpu::Gpu;
 use crate::graph::desc::ParamValue;
 use crate::graph::edit::ParamSet;
 use crate::graph::executor::{Executor, FrameHook, PassTimings, Timing};
+use crate::graph::frame_kind::FrameKind;
 use crate::graph::pipelines::PipelineCache;
 use crate::graph::tile_pool;
 use crate::graph::{self, CompileOptions, CompiledGraph};
@@ -280,10 +281,15 @@ impl Session {
             prev_cone_scale,
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-        // A camera bit for bit where it was picks the passes' CAMERA_STILL
-        // pipelines (as a specialisation: not with --no-specialise).
-        let still = bytemuck::bytes_of(&frame.camera) == bytemuck::bytes_of(&frame.prev_camera);
-        self.executor.camera_still = still && self.executor.schedule.specialise;
+        // The kind of frame picks the passes' per-frame pipelines
+        // (graph/frame_kind.rs; as a specialisation: not with
+        // --no-specialise).
+        let specialise = self.executor.schedule.specialise;
+        self.executor.frame_kind = FrameKind {
+            camera_still: specialise && bytemuck::bytes_of(&frame.camera) == bytemuck::bytes_of(&frame.prev_camera),
+            scene_still: specialise && (st.epoch_frames > 0 || st.history_frames == 0),
+            no_history: specialise && st.history_frames == 0,
+        };
         self.executor.has_history = st.history_frames > 0;
         let timings = self.executor.run_frame_with(&self.gpu, self.timing, epoch, hook);
         st.last = Some((world_camera, epoch));

@@ -384,8 +384,8 @@ fn check_constants(pass: &PassDesc, shader: &ShaderInfo) -> Result<Vec<(String, 
                 format!("unknown constant `{k}`; {} overrides: {}", shader.name, names(shader.overrides.iter().map(|o| &o.name))),
             ));
         };
-        if k == crate::graph::pipelines::CAMERA_STILL {
-            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is set by the engine per frame (a still camera picks its pipeline); a graph cannot set it")));
+        if crate::graph::frame_kind::FRAME_CONSTANTS.contains(&k.as_str()) {
+            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is set by the engine per frame (each kind of frame picks its pipeline); a graph cannot set it")));
         }
         // Within the type's range too: the driver refuses a pipeline
         // constant that does not fit with a bare "Validation Error".
