@@ -4,8 +4,11 @@
 // (normal and plane, shared/realtime_common.wgsl) and by how far its
 // demodulated colour lies from this pixel's in units of the standard
 // deviation of their difference (the variances of the two means,
-// `filtered_in`.w). The variance is filtered with the squared weights for
-// the next iteration.
+// `filtered_in`.w), or, where that lets more through, how far its and
+// the opposite tap's mean lies (a gradient's two sides cancel there, so
+// the wider steps filter smooth gradients too; docs/realtime.md, "Taps
+// in pairs"). The variance is filtered with the squared weights for the
+// next iteration.
 //
 // Entry `main` writes the next iteration's input; `last` is the final
 // iteration and remodulates: R + A (F - I), the filtered demodulated
@@ -28,6 +31,9 @@
 #import realtime_common
 
 override STEP: i32 = 1;
+// Whether a tap may pass the pair's colour test too (below; 0 takes each
+// tap's own test alone: for measuring what the pairs bring).
+override PAIRS: bool = true;
 
 struct Params {
     sigma_l: f32, // ui: 0.5..64 log "luminance sigma"
@@ -80,38 +86,61 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
     // Taps off the centre, where a lane has a surface to filter (the same
     // for every lane once the image has stood still long enough).
     let still_enough = params.until_frames > 0u && frame.accum_count >= params.until_frames;
-    let taps = select(0u, 8u, gp.surface && !still_enough) * u32(frame.exact_one);
+    let pairs = select(0u, 4u, gp.surface && !still_enough) * u32(frame.exact_one);
     let plane_scale = plane_scale(gp, params.depth_sigma) / f32(STEP);
-    // The tap's offset, stepped through the 3x3's eight outer texels in
-    // rows without an integer division (a SIMD CPU driver divides one lane
-    // at a time) and without a trip for the centre (it runs every trip's
-    // arithmetic under its lane mask, taken or not).
+    // The taps in opposite pairs, a (up and left of the centre, stepped
+    // through without an integer division: a SIMD CPU driver divides one
+    // lane at a time) and b = -a. Each tap is weighed by its own colour
+    // test or by the pair's, whichever lets more through: the pair's mean
+    // against this pixel's colour, where a gradient's two sides cancel and
+    // only curvature (an edge) fails. A smooth gradient's taps then count
+    // across the wider steps, with one weight each, so they add no bias.
     var d = vec2i(-1, -1);
-    for (var k = 0u; k < taps; k++) {
-        let q = p + d * STEP;
-        if all(q >= vec2i(0)) && all(q < size) {
-            let gq = load_guide(guide, q);
-            let diagonal = d.x != 0 && d.y != 0;
-            let kernel = select(0.125, 0.0625, diagonal);
-            let scale = plane_scale * select(1.0, 1.0 / sqrt(2.0), diagonal);
-            let tap = textureLoad(tex, q);
-            let w = kernel * geometry_weight(gp, gq, scale, colour_test(own, tap));
-            sum += vec4f(w * tap.rgb, w * w * tap.a);
-            wsum += w;
-            if with_direct {
-                let tap_d = textureLoad(dtex, q);
-                let w_d = kernel * geometry_weight(gp, gq, scale, colour_test(own_d, tap_d));
-                sum_d += vec4f(w_d * tap_d.rgb, w_d * w_d * tap_d.a);
-                wsum_d += w_d;
-            }
+    for (var k = 0u; k < pairs; k++) {
+        let qa = p + d * STEP;
+        let qb = p - d * STEP;
+        let diagonal = d.x != 0 && d.y != 0;
+        let kernel = select(0.125, 0.0625, diagonal);
+        let scale = plane_scale * select(1.0, 1.0 / sqrt(2.0), diagonal);
+        let ca = clamp(qa, vec2i(0), size - 1);
+        let cb = clamp(qb, vec2i(0), size - 1);
+        let ta = textureLoad(tex, ca);
+        let tb = textureLoad(tex, cb);
+        // The surface tests' exponents (a tap outside the image: none of
+        // its weight; a pair needs both).
+        let ea = select(NO_WEIGHT, geometry_exponent(gp, load_guide(guide, ca), scale), all(qa == ca));
+        let eb = select(NO_WEIGHT, geometry_exponent(gp, load_guide(guide, cb), scale), all(qb == cb));
+        let e_pair = max(ea, eb);
+        // max(exp(-x), exp(-y)) as exp(-min(x, y)): one exponential a tap.
+        let pair = select(NO_WEIGHT, e_pair + pair_test(own, ta, tb), PAIRS);
+        let wa = kernel * exp(-min(ea + colour_test(own, ta), pair));
+        let wb = kernel * exp(-min(eb + colour_test(own, tb), pair));
+        sum += vec4f(wa * ta.rgb + wb * tb.rgb, wa * wa * ta.a + wb * wb * tb.a);
+        wsum += wa + wb;
+        if with_direct {
+            let da = textureLoad(dtex, ca);
+            let db = textureLoad(dtex, cb);
+            let pair_d = select(NO_WEIGHT, e_pair + pair_test(own_d, da, db), PAIRS);
+            let wda = kernel * exp(-min(ea + colour_test(own_d, da), pair_d));
+            let wdb = kernel * exp(-min(eb + colour_test(own_d, db), pair_d));
+            sum_d += vec4f(wda * da.rgb + wdb * db.rgb, wda * wda * da.a + wdb * wdb * db.a);
+            wsum_d += wda + wdb;
         }
-        // Right, past the centre, or down to the next row's left end.
-        d.x += select(1, 2, d.y == 0 && d.x == -1);
+        // Right along the top row, then the centre row's left end.
+        d.x += 1;
         if d.x > 1 {
-            d = vec2i(-1, d.y + 1);
+            d = vec2i(-1, 0);
         }
     }
     return Filtered(vec4f(sum.rgb / wsum, sum.a / (wsum * wsum)), vec4f(sum_d.rgb / wsum_d, sum_d.a / (wsum_d * wsum_d)));
+}
+
+// How far two opposite taps' mean lies from the pixel's colour, in units
+// of the deviation of their difference (the three means' noise).
+fn pair_test(own: vec4f, a: vec4f, b: vec4f) -> f32 {
+    let m = 0.5 * (a.rgb + b.rgb) - own.rgb;
+    let colour = max(abs(m.r), max(abs(m.g), abs(m.b)));
+    return colour / (params.sigma_l * sqrt(own.a + 0.25 * (a.a + b.a)) + 1e-20);
 }
 
 // How far a tap's demodulated colour lies from the pixel's, in units of

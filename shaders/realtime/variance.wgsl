@@ -111,30 +111,35 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
         // elsewhere: a CPU driver runs a loop as long as its busiest lane).
         let r = select(1, 2, spatial_variance);
         let side = u32(2 * r + 1);
-        let taps = select(0u, side * side, gp.surface) * u32(frame.exact_one);
-        let centre = side * side / 2u;
-        var light = Spread(vec3f(0.0), 0.0, 0.0);
+        // The centre, then the other taps in opposite pairs, d and -d (half
+        // the loop's trips: a CPU driver pays for each trip's bookkeeping).
+        let pairs = select(0u, side * side / 2u, gp.surface) * u32(frame.exact_one);
+        var light = spread_add(Spread(vec3f(0.0), 0.0, 0.0), 1.0, own.rgb);
         var direct = Spread(vec3f(0.0), 0.0, 0.0);
-        var wsum = 0.0;
+        if with_direct && !temporal_direct {
+            direct = spread_add(direct, 1.0, own_d.rgb);
+        }
+        var wsum = 1.0;
         let plane_scale = plane_scale(gp, params.depth_sigma);
-        // The tap's offset, stepped through the square in rows without an
-        // integer division (a SIMD CPU driver divides one lane at a time).
+        // d stepped through the rows above the centre and the centre row's
+        // left half, without an integer division (a SIMD CPU driver
+        // divides one lane at a time).
         var d = vec2i(-r, -r);
-        for (var k = 0u; k < taps; k++) {
-            let q = clamp(p + d, vec2i(0), size - 1);
-            var w = 1.0;
-            if k != centre {
-                w = geometry_weight(gp, load_guide(guide, q), plane_scale * inverseSqrt(f32(dot(d, d))), 0.0);
-            }
+        for (var k = 0u; k < pairs; k++) {
+            let qa = clamp(p + d, vec2i(0), size - 1);
+            let qb = clamp(p - d, vec2i(0), size - 1);
+            let scale = plane_scale * inverseSqrt(f32(dot(d, d)));
+            let wa = geometry_weight(gp, load_guide(guide, qa), scale, 0.0);
+            let wb = geometry_weight(gp, load_guide(guide, qb), scale, 0.0);
             d.x += 1;
             if d.x > r {
                 d = vec2i(-r, d.y + 1);
             }
-            light = spread_add(light, w, textureLoad(tex, q).rgb);
+            light = spread_add(spread_add(light, wa, textureLoad(tex, qa).rgb), wb, textureLoad(tex, qb).rgb);
             if with_direct && !temporal_direct {
-                direct = spread_add(direct, w, textureLoad(dtex, q).rgb);
+                direct = spread_add(spread_add(direct, wa, textureLoad(dtex, qa).rgb), wb, textureLoad(dtex, qb).rgb);
             }
-            wsum += w;
+            wsum += wa + wb;
         }
         if wsum > 0.0 {
             value = mix(value, light.sum / wsum, blur);
@@ -148,23 +153,25 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     }
     if !spatial_variance || temporal_direct {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
-        // only the noise's level is blurred.
-        var sum = 0.0;
-        var sum_d = 0.0;
-        let taps = 9u * u32(frame.exact_one);
+        // only the noise's level is blurred. The centre, then opposite
+        // pairs, as above.
+        var sum = select(0.0, 0.25 * own.a, !spatial_variance);
+        var sum_d = select(0.0, 0.25 * own_d.a, temporal_direct);
+        let pairs = 4u * u32(frame.exact_one);
         var d = vec2i(-1, -1);
-        for (var k = 0u; k < taps; k++) {
-            let q = clamp(p + d, vec2i(0), size - 1);
+        for (var k = 0u; k < pairs; k++) {
+            let qa = clamp(p + d, vec2i(0), size - 1);
+            let qb = clamp(p - d, vec2i(0), size - 1);
             let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
             if !spatial_variance {
-                sum += kernel * textureLoad(tex, q).a;
+                sum += kernel * (textureLoad(tex, qa).a + textureLoad(tex, qb).a);
             }
             if temporal_direct {
-                sum_d += kernel * textureLoad(dtex, q).a;
+                sum_d += kernel * (textureLoad(dtex, qa).a + textureLoad(dtex, qb).a);
             }
             d.x += 1;
             if d.x > 1 {
-                d = vec2i(-1, d.y + 1);
+                d = vec2i(-1, 0);
             }
         }
         if !spatial_variance {

@@ -182,12 +182,17 @@ const NORMAL_SHARPNESS: f32 = 4.0;
 // `depth_sigma` pixel footprints per pixel of distance (`scale`:
 // plane_scale over the distance in pixels).
 fn geometry_weight(p: Guide, q: Guide, scale: f32, extra: f32) -> f32 {
-    if !p.surface || !q.surface {
-        return 0.0;
-    }
+    return exp(-geometry_exponent(p, q, scale) - extra);
+}
+
+// The exponent of geometry_weight (its weight is exp(-it)); NO_WEIGHT
+// where either pixel has no surface.
+const NO_WEIGHT: f32 = 1.0e30;
+
+fn geometry_exponent(p: Guide, q: Guide, scale: f32) -> f32 {
     let dn = p.n - q.n;
     let plane = abs(dot(q.p - p.p, p.n));
-    return exp(-NORMAL_SHARPNESS * dot(dn, dn) - plane * scale - extra);
+    return select(NO_WEIGHT, NORMAL_SHARPNESS * dot(dn, dn) + plane * scale, p.surface && q.surface);
 }
 
 // Pixels per side of a gradient stratum (shaders/realtime/gradient.wgsl).
