@@ -77,12 +77,8 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
     let gp = load_guide(guide, p);
     let size = vec2i(frame.size);
     // 1/4, 1/2, 1/4 in each axis; the centre's weight is (1/2)^2.
-    var sum = 0.25 * own;
-    sum.a *= 0.25;
-    var wsum = 0.25;
-    var sum_d = 0.25 * own_d;
-    sum_d.a *= 0.25;
-    var wsum_d = 0.25;
+    var light = centre_sums(own);
+    var direct = centre_sums(own_d);
     // Taps off the centre, where a lane has a surface to filter (the same
     // for every lane once the image has stood still long enough).
     let still_enough = params.until_frames > 0u && frame.accum_count >= params.until_frames;
@@ -104,27 +100,13 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
         let scale = plane_scale * select(1.0, 1.0 / sqrt(2.0), diagonal);
         let ca = clamp(qa, vec2i(0), size - 1);
         let cb = clamp(qb, vec2i(0), size - 1);
-        let ta = textureLoad(tex, ca);
-        let tb = textureLoad(tex, cb);
         // The surface tests' exponents (a tap outside the image: none of
         // its weight; a pair needs both).
         let ea = select(NO_WEIGHT, geometry_exponent(gp, load_guide(guide, ca), scale), all(qa == ca));
         let eb = select(NO_WEIGHT, geometry_exponent(gp, load_guide(guide, cb), scale), all(qb == cb));
-        let e_pair = max(ea, eb);
-        // max(exp(-x), exp(-y)) as exp(-min(x, y)): one exponential a tap.
-        let pair = select(NO_WEIGHT, e_pair + pair_test(own, ta, tb), PAIRS);
-        let wa = kernel * exp(-min(ea + colour_test(own, ta), pair));
-        let wb = kernel * exp(-min(eb + colour_test(own, tb), pair));
-        sum += vec4f(wa * ta.rgb + wb * tb.rgb, wa * wa * ta.a + wb * wb * tb.a);
-        wsum += wa + wb;
+        light = add_pair(light, own, textureLoad(tex, ca), textureLoad(tex, cb), ea, eb, kernel);
         if with_direct {
-            let da = textureLoad(dtex, ca);
-            let db = textureLoad(dtex, cb);
-            let pair_d = select(NO_WEIGHT, e_pair + pair_test(own_d, da, db), PAIRS);
-            let wda = kernel * exp(-min(ea + colour_test(own_d, da), pair_d));
-            let wdb = kernel * exp(-min(eb + colour_test(own_d, db), pair_d));
-            sum_d += vec4f(wda * da.rgb + wdb * db.rgb, wda * wda * da.a + wdb * wdb * db.a);
-            wsum_d += wda + wdb;
+            direct = add_pair(direct, own_d, textureLoad(dtex, ca), textureLoad(dtex, cb), ea, eb, kernel);
         }
         // Right along the top row, then the centre row's left end.
         d.x += 1;
@@ -132,7 +114,34 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
             d = vec2i(-1, 0);
         }
     }
-    return Filtered(vec4f(sum.rgb / wsum, sum.a / (wsum * wsum)), vec4f(sum_d.rgb / wsum_d, sum_d.a / (wsum_d * wsum_d)));
+    return Filtered(normalised(light), normalised(direct));
+}
+
+// One signal's weighted sums: of the values (the variances by the squared
+// weights) and of the weights.
+struct Sums {
+    sum: vec4f,
+    w: f32,
+}
+
+fn centre_sums(own: vec4f) -> Sums {
+    return Sums(vec4f(0.25 * own.rgb, 0.0625 * own.a), 0.25);
+}
+
+// Taps a and b of a pair added, each weighed by its surface test times its
+// own colour test or the pair's, whichever lets more through (as
+// exp(-min(x, y)): one exponential a tap). `ea`, `eb`: the surface
+// tests' exponents.
+fn add_pair(s: Sums, own: vec4f, ta: vec4f, tb: vec4f, ea: f32, eb: f32, kernel: f32) -> Sums {
+    let pair = select(NO_WEIGHT, max(ea, eb) + pair_test(own, ta, tb), PAIRS);
+    let wa = kernel * exp(-min(ea + colour_test(own, ta), pair));
+    let wb = kernel * exp(-min(eb + colour_test(own, tb), pair));
+    return Sums(s.sum + vec4f(wa * ta.rgb + wb * tb.rgb, wa * wa * ta.a + wb * wb * tb.a), s.w + wa + wb);
+}
+
+// The filtered value and the variance of it.
+fn normalised(s: Sums) -> vec4f {
+    return vec4f(s.sum.rgb / s.w, s.sum.a / (s.w * s.w));
 }
 
 // How far two opposite taps' mean lies from the pixel's colour, in units
