@@ -100,11 +100,13 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
         let scale = plane_scale * select(1.0, 1.0 / sqrt(2.0), diagonal);
         let ca = clamp(qa, vec2i(0), size - 1);
         let cb = clamp(qb, vec2i(0), size - 1);
+        let ta = textureLoad(tex, ca);
+        let tb = textureLoad(tex, cb);
         // The surface tests' exponents (a tap outside the image: none of
         // its weight; a pair needs both).
         let ea = select(NO_WEIGHT, geometry_exponent(gp, load_guide(guide, ca), scale), all(qa == ca));
         let eb = select(NO_WEIGHT, geometry_exponent(gp, load_guide(guide, cb), scale), all(qb == cb));
-        light = add_pair(light, own, textureLoad(tex, ca), textureLoad(tex, cb), ea, eb, kernel);
+        light = add_pair(light, own, ta, tb, ea, eb, kernel);
         if with_direct {
             direct = add_pair(direct, own_d, textureLoad(dtex, ca), textureLoad(dtex, cb), ea, eb, kernel);
         }
