@@ -141,14 +141,13 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
             }
             wsum += wa + wb;
         }
-        if wsum > 0.0 {
-            value = mix(value, light.sum / wsum, blur);
-            if spatial_variance {
-                var_mean = spread_variance(light, wsum, n, params.boost);
-            }
-            if with_direct && !temporal_direct {
-                var_d = spread_variance(direct, wsum, n, params.direct_boost);
-            }
+        // (wsum >= 1: the centre counts with weight 1.)
+        value = mix(value, light.sum / wsum, blur);
+        if spatial_variance {
+            var_mean = spread_variance(light, wsum, n, params.boost);
+        }
+        if with_direct && !temporal_direct {
+            var_d = spread_variance(direct, wsum, n, params.direct_boost);
         }
     }
     if !spatial_variance || temporal_direct {

@@ -133,6 +133,13 @@ impl MaterialGpu {
         self.model == MATERIAL_METALLIC_ROUGHNESS
     }
 
+    /// Whether it is a coat: a specular share between 0 and 1 over a
+    /// diffuse base (the test shared/path.wgsl makes before taking both
+    /// lobes, SPLIT_LOBES).
+    pub fn is_coat(&self) -> bool {
+        self.specular > 0.0 && self.specular < 1.0 && !self.is_metal_rough()
+    }
+
     /// Whether rays meet only its triangles' front faces.
     pub fn is_single_sided(&self) -> bool {
         self.flags & MATERIAL_SINGLE_SIDED != 0

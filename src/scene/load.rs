@@ -609,7 +609,7 @@ impl<'a, 'l> Builder<'a, 'l> {
             flags.specular |= m.specular > 0.0;
             flags.emissive |= m.emission.iter().any(|&e| e > 0.0);
             flags.metal_rough |= m.is_metal_rough();
-            flags.coats |= m.specular > 0.0 && m.specular < 1.0 && !m.is_metal_rough();
+            flags.coats |= m.is_coat();
         }
         flags
     }
