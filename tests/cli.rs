@@ -219,6 +219,47 @@ fn trade_measures_each_graph_against_the_reference() {
     assert!(std::fs::read_to_string(dir.join("reference.ron")).unwrap().contains("direct.ron"));
 }
 
+/// `trade --seeds N`: each frame's row is the mean over seeds 1..N, as
+/// `render --seed` and `compare` of each seed give it; trade.md shows the
+/// spread.
+#[test]
+fn trade_over_seeds_averages_what_each_seed_measures() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("trade-seeds");
+    let out = dir.to_string_lossy().into_owned();
+    let args = ["trade", "scenes/cornell.ron", "--graphs", "passes/pathtrace.ron", "--size", "32x32", "--frames", "2", "--reference-frames", "32", "--seeds", "3", "--out", &out];
+    let (code, stdout, err) = glint(&args);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(dir.join("trade.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2, "one row a frame, not one a seed: {csv}");
+    let reference = dir.join("reference.exr").to_string_lossy().into_owned();
+    let mut flips = Vec::new();
+    for seed in ["1", "2", "3"] {
+        let image = dir.join(format!("seed{seed}.exr")).to_string_lossy().into_owned();
+        let (code, _, err) = glint(&["render", "scenes/cornell.ron", "--graph", "passes/pathtrace.ron", "--size", "32x32", "--frames", "1", "--seed", seed, "--out", &image]);
+        assert_eq!(code, 0, "{err}");
+        let (code, cmp, err) = glint(&["compare", &reference, &image]);
+        assert_eq!(code, 0, "{err}");
+        flips.push(cmp.lines().find_map(|l| l.strip_prefix("flip_mean=")).unwrap().parse::<f64>().unwrap());
+    }
+    assert!(flips[0] != flips[1] && flips[1] != flips[2], "seeds draw different samples: {flips:?}");
+    let mean = flips.iter().sum::<f64>() / 3.0;
+    let first: f64 = rows[0][5].parse().unwrap();
+    assert!((first - mean).abs() < 1e-4, "the CSV's first frame {first}, the seeds' mean {mean} ({flips:?})");
+    let md = std::fs::read_to_string(dir.join("trade.md")).unwrap();
+    assert!(md.contains("Over the seeds") && md.contains("| pathtrace | 3 |"), "{md}\n{stdout}");
+    for bad in [&["--seeds", "0"][..], &["--seeds", "2", "--animate"][..]] {
+        let mut a = vec!["trade", "scenes/cornell.ron", "--graphs", "passes/pathtrace.ron", "--out", &out];
+        a.extend(bad);
+        let (code, _, err) = glint(&a);
+        assert_ne!(code, 0, "{bad:?} was taken");
+        assert!(err.contains("--seeds"), "{err}");
+    }
+}
+
 #[test]
 fn trade_in_motion_compares_every_kth_frame_with_its_own_instant() {
     if common::gpu().is_none() {

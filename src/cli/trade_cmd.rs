@@ -62,13 +62,18 @@ pub struct TradeArgs {
     /// instant's (default: pathtrace.ron beside the first graph).
     #[arg(long, conflicts_with = "reference")]
     pub reference_graph: Option<PathBuf>,
+    /// Render every graph with seeds 1..=N: trade.csv and the tables hold
+    /// the mean over the seeds, frame by frame, and trade.md their spread
+    /// (one seed's error is one draw of a random variable). Still only.
+    #[arg(long, default_value_t = 1, conflicts_with = "animate")]
+    pub seeds: u32,
     #[arg(long)]
     pub out: PathBuf,
 }
 
 pub fn run(args: TradeArgs) -> Result<(), UserError> {
-    if args.frames == 0 || args.reference_frames < 2 {
-        return Err(UserError::new("--frames must be at least 1 and --reference-frames at least 2"));
+    if args.frames == 0 || args.reference_frames < 2 || args.seeds == 0 {
+        return Err(UserError::new("--frames and --seeds must be at least 1 and --reference-frames at least 2"));
     }
     let settings = match &args.sweep {
         Some(path) => {
@@ -115,6 +120,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
         }
     };
     let mut curves = Vec::new();
+    let mut seed_runs = Vec::new();
     let mut panels = vec![crate::trade::plot::Panel { label: "reference".into(), image: image_io::to_srgb8(&reference), flip_map: None }];
     for (graph, setting) in args.graphs.iter().flat_map(|g| settings.iter().map(move |s| (g, s))) {
         let desc = crate::graph::FrameGraph::load(graph)?;
@@ -122,8 +128,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
             out!("{} [{}]: skipped, the graph has no pass `{missing}`", graph.display(), setting.name);
             continue;
         }
-        let run = Run::new(&gpu, scene::load(&args.scene)?, graph, setting, args.size)?;
-        let (curve, last) = measure(run, args.frames, &reference)?;
+        let (curve, last) = measure_seeds(&args, &gpu, graph, setting, &reference, &mut seed_runs)?;
         let file = if setting.name.is_empty() { format!("{}-final.exr", curve.graph) } else { format!("{}-{}-final.exr", curve.graph, file_safe(&setting.name)) };
         image_io::save(&last, &args.out.join(file))?;
         let (flip, map) = metrics::flip(&reference, &last);
@@ -145,7 +150,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
         args.size.0,
         args.size.1,
         gpu.describe(),
-        args.frames,
+        if args.seeds > 1 { format!("{} (the mean over seeds 1 to {})", args.frames, args.seeds) } else { args.frames.to_string() },
         if Timing::stamps_bracket_work(&gpu) { "GPU timestamps" } else { "wall clock, each frame waited for (this adapter's timestamps do not bracket the work)" },
         args.reference.as_ref().map_or(format!("pathtrace.ron at {} samples per pixel", args.reference_frames), |p| p.display().to_string())
     );
@@ -155,7 +160,36 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     let compare_path = args.out.join("compare.png");
     crate::trade::plot::compare(&compare_path, args.size, &panels).map_err(|e| UserError::in_file(&compare_path, format!("cannot draw the comparison: {e}")))?;
     let md_path = args.out.join("trade.md");
-    std::fs::write(&md_path, crate::trade::markdown("Speed against accuracy", &how, &curves)).map_err(|e| UserError::in_file(&md_path, e.to_string()))?;
+    let mut md = crate::trade::markdown("Speed against accuracy", &how, &curves);
+    if args.seeds > 1 {
+        md += &crate::trade::seeds::markdown(&seed_runs);
+    }
+    std::fs::write(&md_path, md).map_err(|e| UserError::in_file(&md_path, e.to_string()))?;
     out!("wrote {}, {}, {} and {}", csv_path.display(), md_path.display(), png_path.display(), compare_path.display());
     Ok(())
+}
+
+/// One graph and setting rendered with seeds 1..=`args.seeds`: the mean
+/// curve, and seed 1's final image; each seed's curve goes on `seed_runs`
+/// under the curve's label.
+fn measure_seeds(
+    args: &TradeArgs,
+    gpu: &Gpu,
+    graph: &std::path::Path,
+    setting: &Setting,
+    reference: &crate::gpu::readback::ImageF32,
+    seed_runs: &mut Vec<(String, Vec<crate::trade::Curve>)>,
+) -> Result<(crate::trade::Curve, crate::gpu::readback::ImageF32), UserError> {
+    let mut runs = Vec::new();
+    let mut first_image = None;
+    for seed in 1..=args.seeds {
+        let run = Run::with_seed(gpu, scene::load(&args.scene)?, graph, setting, args.size, seed)?;
+        let (curve, last) = measure(run, args.frames, reference)?;
+        first_image.get_or_insert(last);
+        runs.push(curve);
+    }
+    let curve = crate::trade::seeds::mean_over_seeds(&runs).ok_or_else(|| UserError::new("no seed was rendered"))?;
+    let image = first_image.ok_or_else(|| UserError::new("no seed was rendered"))?;
+    seed_runs.push((curve.label(), runs));
+    Ok((curve, image))
 }

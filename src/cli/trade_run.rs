@@ -54,9 +54,14 @@ pub(crate) struct Run {
 
 impl Run {
     pub fn new(gpu: &Gpu, scene: Scene, graph: &Path, setting: &Setting, size: (u32, u32)) -> Result<Run, UserError> {
+        Run::with_seed(gpu, scene, graph, setting, size, 1)
+    }
+
+    /// `new` with the samples' random seed (`trade --seeds`).
+    pub fn with_seed(gpu: &Gpu, scene: Scene, graph: &Path, setting: &Setting, size: (u32, u32), seed: u32) -> Result<Run, UserError> {
         let size = crate::machines::scale_size(size, setting.resolution_scale);
         check_size(gpu, size)?;
-        let mut session = session_for(gpu, scene, graph, size, 1, setting)?;
+        let mut session = session_for(gpu, scene, graph, size, seed, setting)?;
         // One frame untimed, then a restart (the image starts over as in a
         // fresh session): CPU drivers compile a pipeline's code on its first
         // dispatch, which is not a frame's cost.

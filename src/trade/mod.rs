@@ -10,6 +10,7 @@ use std::fmt::Write;
 
 pub mod motion;
 pub mod plot;
+pub mod seeds;
 pub mod sweep;
 
 /// One frame of one curve.

@@ -47,11 +47,26 @@ fn data_uri(bytes: &[u8]) -> String {
     format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(bytes))
 }
 
-/// A scratch folder of its own for each test.
-fn scratch(name: &str) -> PathBuf {
+/// A scratch folder of its own for each test, removed when dropped.
+struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        std::fs::remove_dir_all(&self.0).ok();
+    }
+}
+
+fn scratch(name: &str) -> Scratch {
     let dir = std::env::temp_dir().join(format!("glint-gltf-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
+    Scratch(dir)
 }
 
 fn write_json(dir: &Path, v: &Value) -> PathBuf {
@@ -65,7 +80,8 @@ fn error_of(name: &str, edit: impl FnOnce(&mut Value), positions: &[[f32; 3]], i
     let bytes = buffer(positions, indices);
     let mut v = triangle_json(Some(&data_uri(&bytes)), bytes.len());
     edit(&mut v);
-    let path = write_json(&scratch(name), &v);
+    let dir = scratch(name);
+    let path = write_json(&dir, &v);
     match read(&path) {
         Ok(_) => panic!("{name}: the broken file was read"),
         Err(e) => {
@@ -79,7 +95,8 @@ fn error_of(name: &str, edit: impl FnOnce(&mut Value), positions: &[[f32; 3]], i
 #[test]
 fn a_triangle_in_a_data_uri_is_placed_by_its_nodes_in_f64() {
     let bytes = buffer(&TRIANGLE, &[0, 1, 2]);
-    let path = write_json(&scratch("data-uri"), &triangle_json(Some(&data_uri(&bytes)), bytes.len()));
+    let dir = scratch("data-uri");
+    let path = write_json(&dir, &triangle_json(Some(&data_uri(&bytes)), bytes.len()));
     let f = read(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(f.instances.len(), 1);
     assert_eq!(f.meshes[0].len(), 1);
@@ -263,7 +280,8 @@ fn what_glint_leaves_out_is_said_once_each() {
     prim["targets"] = gltf::json::deserialize::from_str(r#"[{"POSITION": 0}]"#).expect("json");
     prim["material"] = Value::from(0);
     v["materials"] = gltf::json::deserialize::from_str(r#"[{"name": "one side"}]"#).expect("json");
-    let path = write_json(&scratch("left-out"), &v);
+    let dir = scratch("left-out");
+    let path = write_json(&dir, &v);
     let f = read(&path).unwrap_or_else(|e| panic!("{e}"));
     let warnings = f.warnings.join("\n");
     assert!(warnings.contains("1 primitive(s) have morph targets"), "{warnings}");
