@@ -86,16 +86,7 @@ mod tests {
     use super::*;
 
     fn curve(points: &[(f64, f64)]) -> Curve {
-        let mut cum = 0.0;
-        let samples = points
-            .iter()
-            .enumerate()
-            .map(|(i, &(ms, flip))| {
-                cum += ms;
-                Sample { graph: "g".into(), setting: String::new(), frame: i as u32 + 1, ms, cum_ms: cum, flip, relmse: flip, psnr: 10.0 * flip }
-            })
-            .collect();
-        Curve { graph: "g".into(), setting: String::new(), samples }
+        crate::trade::tests::curve("g", points)
     }
 
     #[test]
@@ -105,7 +96,7 @@ mod tests {
         assert_eq!(m.samples.len(), 2, "frame 3 is one seed's only");
         let got: Vec<(u32, f64, f64, f64)> = m.samples.iter().map(|s| (s.frame, s.ms, s.cum_ms, s.flip)).collect();
         assert_eq!(got, vec![(1, 20.0, 20.0, 0.2), (2, 30.0, 50.0, 0.060000000000000005)]);
-        assert!((m.samples[0].relmse - 0.2).abs() < 1e-12 && (m.samples[1].psnr - 0.6).abs() < 1e-12);
+        assert!((m.samples[0].relmse - 0.05).abs() < 1e-12 && (m.samples[1].psnr - 20.0).abs() < 1e-12);
         assert!(mean_over_seeds(&[]).is_none());
         // One seed is its own mean.
         assert_eq!(mean_over_seeds(&runs[..1]).unwrap(), runs[0]);
