@@ -245,6 +245,15 @@ fn golden_images_of_every_pass() {
         check(&name, &visualize(view, img), &mut failures);
         count += 1;
     }
+    // The real-time graph's first frame, where the variance pass takes
+    // the neighbours' spread (at frame 4, above, each pixel's own moments).
+    for (resource, stop_after) in [("filt_0", Some("variance")), ("direct_0", Some("variance")), ("output", None)] {
+        let Some(gpu) = gpu() else { break };
+        let options = CompileOptions { output: Some(resource.to_string()), edits: GraphEdits { stop_after: stop_after.map(String::from), ..Default::default() }, ..Default::default() };
+        let img = render_with(gpu, load_scene("cornell.ron"), &repo().join("passes/realtime.ron"), SIZE, 1, &options);
+        check(&format!("realtime-first-frame-cornell-{resource}"), &visualize(resource, img), &mut failures);
+        count += 1;
+    }
     if gpu().is_some() {
         assert!(count >= 90, "expected a golden per pass output, got {count}");
     }

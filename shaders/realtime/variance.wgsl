@@ -2,8 +2,9 @@
 // lum(I), the demodulated radiance's luminance. Once its history holds
 // `min_history` samples, its own moments' estimate (temporal.wgsl's
 // `filter_in`.w) blurred over 3x3 pixels (SVGF's Gaussian: a few samples'
-// moments are noisy); before that, the spread of its 5x5 neighbours' means
-// on the same surface, whose weighted mean also replaces its own while
+// moments are noisy); before that, the spread of its neighbours' means on
+// the same surface (a 3x3 with its taps two pixels apart: a 5x5 footprint
+// in 9 taps), whose weighted mean also replaces its own while
 // history is shorter than `blur_history` (one or two samples alone are
 // mostly noise), fading out by three times that. Being a mean's variance (of n
 // samples), it falls as history grows, and with it what the à-trous
@@ -71,6 +72,9 @@ fn spread_variance(s: Spread, wsum: f32, n: f32, boost: f32) -> f32 {
     return max(s.s2 / wsum - mu * mu, 0.0) * (1.0 + (boost - 1.0) / (n * n));
 }
 
+// How far apart the spread's taps lie while history is short.
+const SPREAD_STEP: i32 = 2;
+
 // The history from which the direct light's variance is its own moments'
 // (two samples are the fewest that have a spread).
 const DIRECT_MOMENTS_FROM: f32 = 2.0;
@@ -106,14 +110,14 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     var var_mean = 0.0;
     var var_d = 0.0;
     if spatial_variance || blur > 0.0 {
-        // 5x5 neighbours for the spread, 3x3 while only the blur fades
-        // out (a loop of 25 or 9 trips where a lane needs it, none
-        // elsewhere: a CPU driver runs a loop as long as its busiest lane).
-        let r = select(1, 2, spatial_variance);
-        let side = u32(2 * r + 1);
+        // A 3x3 of neighbours, SPREAD_STEP pixels apart for the spread
+        // (the 5x5's 25 taps measured the same first frames over 12 seeds
+        // at 1.8x this pass's time: docs/realtime.md, "The spread in nine
+        // taps"), next to each other while only the blur fades out.
+        let step = select(1, SPREAD_STEP, spatial_variance);
         // The centre, then the other taps in opposite pairs, d and -d (half
         // the loop's trips: a CPU driver pays for each trip's bookkeeping).
-        let pairs = select(0u, side * side / 2u, gp.surface) * u32(frame.exact_one);
+        let pairs = select(0u, 4u, gp.surface) * u32(frame.exact_one);
         var light = spread_add(Spread(vec3f(0.0), 0.0, 0.0), 1.0, own.rgb);
         var direct = Spread(vec3f(0.0), 0.0, 0.0);
         if with_direct && !temporal_direct {
@@ -124,16 +128,16 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
         // d stepped through the rows above the centre and the centre row's
         // left half, without an integer division (a SIMD CPU driver
         // divides one lane at a time).
-        var d = vec2i(-r, -r);
+        var d = vec2i(-1, -1);
         for (var k = 0u; k < pairs; k++) {
-            let qa = clamp(p + d, vec2i(0), size - 1);
-            let qb = clamp(p - d, vec2i(0), size - 1);
-            let scale = plane_scale * inverseSqrt(f32(dot(d, d)));
+            let qa = clamp(p + d * step, vec2i(0), size - 1);
+            let qb = clamp(p - d * step, vec2i(0), size - 1);
+            let scale = plane_scale * inverseSqrt(f32(dot(d, d) * step * step));
             let wa = geometry_weight(gp, load_guide(guide, qa), scale, 0.0);
             let wb = geometry_weight(gp, load_guide(guide, qb), scale, 0.0);
             d.x += 1;
-            if d.x > r {
-                d = vec2i(-r, d.y + 1);
+            if d.x > 1 {
+                d = vec2i(-1, d.y + 1);
             }
             light = spread_add(spread_add(light, wa, textureLoad(tex, qa).rgb), wb, textureLoad(tex, qb).rgb);
             if with_direct && !temporal_direct {
