@@ -145,12 +145,13 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     let csv_path = args.out.join("trade.csv");
     std::fs::write(&csv_path, crate::trade::csv(&curves)).map_err(|e| UserError::in_file(&csv_path, e.to_string()))?;
     let how = format!(
-        "{} at {}x{} on {}; {} frames per graph; frame times are {}; error of the accumulated image against {}.",
+        "{} at {}x{} on {}; {} frames per graph{}; frame times are {}; error of the accumulated image against {}.",
         args.scene.display(),
         args.size.0,
         args.size.1,
         gpu.describe(),
-        if args.seeds > 1 { format!("{} (the mean over seeds 1 to {})", args.frames, args.seeds) } else { args.frames.to_string() },
+        args.frames,
+        if args.seeds > 1 { format!(", each frame's figures the mean over seeds 1 to {}", args.seeds) } else { String::new() },
         if Timing::stamps_bracket_work(&gpu) { "GPU timestamps" } else { "wall clock, each frame waited for (this adapter's timestamps do not bracket the work)" },
         args.reference.as_ref().map_or(format!("pathtrace.ron at {} samples per pixel", args.reference_frames), |p| p.display().to_string())
     );
