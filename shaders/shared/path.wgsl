@@ -25,12 +25,15 @@ var<private> path_primary_normal: vec4f;
 var<private> path_primary_ids: vec4u;
 // With THROUGH_MIRRORS, the first hit recorded is the first one past any
 // perfect mirrors (specular share 1, roughness 0: a path goes on from them
-// in one direction only), with the specular share 1 in the normal's w (what
+// in one direction only), with THROUGH_MIRROR_SHARE in the normal's w (what
 // it shows depends on the view): a denoiser then filters what a mirror
 // shows as the surface it shows, and keeps the reflection sharp. While
 // `path_primary_open`, the path has met only such mirrors.
 override THROUGH_MIRRORS: bool = false;
 var<private> path_primary_open: bool;
+// The normal's w of a first hit seen through a mirror: beyond any specular
+// share (at most 1), so the G-buffer tells it apart.
+const THROUGH_MIRROR_SHARE: f32 = 2.0;
 
 // Next-event estimation toward one light a bounce, chosen uniformly and
 // weighted by the light count, instead of every light: a bounce then
@@ -193,7 +196,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     if recording {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = shaded.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-        var view_dependent = select(m.specular, 1.0, depth > 0u);
+        var view_dependent = select(m.specular, THROUGH_MIRROR_SHARE, depth > 0u);
         if is_metal_rough(m) && depth == 0u {
             // The share of what it shows that depends on the view, roughly.
             view_dependent = mr_specular_probability(as_metal_rough(m), abs(dot(shaded.normal, rd))) * (1.0 - m.roughness);

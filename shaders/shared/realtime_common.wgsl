@@ -13,29 +13,34 @@ fn luminance(c: vec3f) -> f32 {
     return dot(c, vec3f(0.2126, 0.7152, 0.0722));
 }
 
-// One pixel's surface as guide holds it: the hit relative to the camera
-// and the shading normal (`surface` false: no lit surface).
+// One pixel's surface as guide holds it: the hit relative to the camera,
+// the shading normal (`surface` false: no lit surface), and whether it was
+// seen through a mirror (`mirror`: GUIDE_MIRROR_BIT or 0).
 struct Guide {
     p: vec3f,
     n: vec3f,
     surface: bool,
+    mirror: u32,
 }
 
-// A unit normal in guide's w: x and y in 11 bits, z in 10, each mapped
-// from -1..1. Decoding takes shifts and one multiply-add per component and
-// no normalisation (a packed octahedral normal's decode cost a quarter of
-// an à-trous step on a CPU driver); the components are within 1/1023 of
-// the normal's, which geometry_weight's test by the normals' difference
-// tolerates. Never NO_SURFACE: all ones decodes to (1, 1, 1), not a unit
-// normal.
-fn pack_guide_normal(n: vec3f) -> u32 {
-    let q = vec3u(round((clamp(n, vec3f(-1.0), vec3f(1.0)) * 0.5 + 0.5) * vec3f(2047.0, 2047.0, 1023.0)));
-    return q.x | (q.y << 11u) | (q.z << 22u);
+// guide's w: a unit normal, x and y in 11 bits, z in 9, each mapped from
+// -1..1, and GUIDE_MIRROR_BIT where the surface was seen through a mirror
+// (THROUGH_MIRRORS). Decoding takes shifts and one multiply-add per
+// component and no normalisation (a packed octahedral normal's decode cost
+// a quarter of an à-trous step on a CPU driver); the components are within
+// 1/511 of the normal's, which geometry_weight's test by the normals'
+// difference tolerates. Never NO_SURFACE: all ones decodes to (1, 1, 1),
+// not a unit normal.
+const GUIDE_MIRROR_BIT: u32 = 0x80000000u;
+
+fn pack_guide_normal(n: vec3f, through_mirror: bool) -> u32 {
+    let q = vec3u(round((clamp(n, vec3f(-1.0), vec3f(1.0)) * 0.5 + 0.5) * vec3f(2047.0, 2047.0, 511.0)));
+    return q.x | (q.y << 11u) | (q.z << 22u) | select(0u, GUIDE_MIRROR_BIT, through_mirror);
 }
 
 fn unpack_guide_normal(w: u32) -> vec3f {
-    let q = vec3u(w & 0x7ffu, (w >> 11u) & 0x7ffu, w >> 22u);
-    return vec3f(q) * vec3f(2.0 / 2047.0, 2.0 / 2047.0, 2.0 / 1023.0) - 1.0;
+    let q = vec3u(w & 0x7ffu, (w >> 11u) & 0x7ffu, (w >> 22u) & 0x1ffu);
+    return vec3f(q) * vec3f(2.0 / 2047.0, 2.0 / 2047.0, 2.0 / 511.0) - 1.0;
 }
 
 // The path pass's first hit beside its position and sample (`gbuf_sample`,
@@ -49,7 +54,9 @@ fn unpack_guide_normal(w: u32) -> vec3f {
 //      hit shows depends on the view, bit 31 where it is a lit surface
 //      (an object that does not glow);
 //   z: the hit's error bound (f32 bits, what its rays are offset by;
-//      MISS_ERROR_BITS where the ray hit nothing);
+//      MISS_ERROR_BITS where the ray hit nothing), its sign bit set where
+//      the hit was seen through a mirror (THROUGH_MIRRORS: the normal's w
+//      is THROUGH_MIRROR_SHARE);
 //   w: the light the hit received directly (SPLIT_DIRECT, shared/path.wgsl;
 //      else 0), shared-exponent RGB9E5.
 // The albedo's and the direct light's rounding cost nothing in the end:
@@ -70,7 +77,12 @@ fn first_hit_error_bits(pos: vec4f, error_bits: u32) -> u32 {
 fn pack_first_hit(normal: vec4f, albedo: vec4f, error_bits: u32, direct: vec3f) -> vec4u {
     let q = vec3u(round(clamp(albedo.rgb, vec3f(0.0), vec3f(1.0)) * 1023.0));
     let flags = select(0u, VIEW_DEPENDENT_BIT, normal.w > 0.0) | select(0u, LIT_SURFACE_BIT, albedo.w > 0.0);
-    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), q.r | (q.g << 10u) | (q.b << 20u) | flags, error_bits, pack_rgb9e5(direct));
+    // (A miss's normal is 0, so a mirror's miss stays MISS_ERROR_BITS; a
+    // bound of exactly 1 seen through one would read as a miss, so it
+    // grows by one ulp: still a bound.)
+    var error = select(error_bits, error_bits | 0x80000000u, normal.w > 1.5);
+    error += u32(error == MISS_ERROR_BITS && normal.w > 1.5);
+    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), q.r | (q.g << 10u) | (q.b << 20u) | flags, error, pack_rgb9e5(direct));
 }
 
 // What gbuf_hit holds, unpacked.
@@ -82,11 +94,13 @@ struct FirstHit {
     albedo: vec3f,
     error: f32,
     direct: vec3f,
+    through_mirror: bool,
 }
 
 fn unpack_first_hit(h: vec4u) -> FirstHit {
     let albedo = vec3f(vec3u(h.y & 0x3ffu, (h.y >> 10u) & 0x3ffu, (h.y >> 20u) & 0x3ffu)) / 1023.0;
-    return FirstHit(h.z == MISS_ERROR_BITS, oct_to_normal(unpack2x16snorm(h.x)), (h.y & VIEW_DEPENDENT_BIT) != 0u, (h.y & LIT_SURFACE_BIT) != 0u, albedo, bitcast<f32>(h.z), unpack_rgb9e5(h.w));
+    let miss = h.z == MISS_ERROR_BITS;
+    return FirstHit(miss, oct_to_normal(unpack2x16snorm(h.x)), (h.y & VIEW_DEPENDENT_BIT) != 0u, (h.y & LIT_SURFACE_BIT) != 0u, albedo, bitcast<f32>(h.z & 0x7fffffffu), unpack_rgb9e5(h.w), !miss && h.z >= 0x80000000u);
 }
 
 // RGB in 32 bits: a 9-bit mantissa a channel and a shared 5-bit exponent
@@ -162,7 +176,7 @@ fn unpack_sample(v: u32) -> vec3f {
 
 fn load_guide(t: texture_storage_2d<rgba32uint, read>, q: vec2i) -> Guide {
     let g = textureLoad(t, q);
-    return Guide(bitcast<vec3f>(g.xyz), unpack_guide_normal(g.w), g.w != NO_SURFACE);
+    return Guide(bitcast<vec3f>(g.xyz), unpack_guide_normal(g.w), g.w != NO_SURFACE, g.w & GUIDE_MIRROR_BIT);
 }
 
 // 1 / (depth_sigma pixel footprints at p's distance): geometry_weight's
@@ -181,7 +195,9 @@ fn plane_scale(p: Guide, depth_sigma: f32) -> f32 {
 const NORMAL_SHARPNESS: f32 = 4.0;
 
 // How much pixel q's surface counts toward pixel p's, times exp(-extra)
-// (one exponential for both surface tests and the caller's own): normals
+// (one exponential for both surface tests and the caller's own): both
+// seen directly or both through a mirror (else a mirror's silhouette
+// against the floor it shows blurs away), normals
 // within a narrow cone, and q's hit near p's tangent plane, within
 // `depth_sigma` pixel footprints per pixel of distance (`scale`:
 // plane_scale over the distance in pixels).
@@ -196,7 +212,7 @@ const NO_WEIGHT: f32 = 1.0e30;
 fn geometry_exponent(p: Guide, q: Guide, scale: f32) -> f32 {
     let dn = p.n - q.n;
     let plane = abs(dot(q.p - p.p, p.n));
-    return select(NO_WEIGHT, NORMAL_SHARPNESS * dot(dn, dn) + plane * scale, p.surface && q.surface);
+    return select(NO_WEIGHT, NORMAL_SHARPNESS * dot(dn, dn) + plane * scale, p.surface && q.surface && p.mirror == q.mirror);
 }
 
 // Pixels per side of a gradient stratum (shaders/realtime/gradient.wgsl).
