@@ -10,12 +10,36 @@
 @group(0) @binding(2) var gbuf_sample: texture_storage_2d<rgba32uint, write>;
 @group(0) @binding(3) var gbuf_hit: texture_storage_2d<rgba32uint, write>;
 
+// Where the camera sees a hit that it sees through mirrors (UNFOLD_MIRRORS,
+// with THROUGH_MIRRORS): the point as far along the camera ray as the path
+// ran to it, and its normal reflected by the mirror that turns its ray back
+// into the camera's (exact for one mirror). The filters and the history
+// then compare what a mirror shows as the camera sees it: at a mirror
+// sphere's foot the floor it shows, which lies in the plane of the floor
+// beside it, unfolds to a surface facing the camera, behind the sphere, and
+// is not blended with that floor; what it shows at a grazing angle, the
+// room beside it, unfolds next to the room itself. (Between two pixels
+// that both show a mirror's hits the filters test the normals alone:
+// shared/realtime_common.wgsl, geometry_exponent.) 0: the hit's own
+// position and normal (to measure what unfolding brings).
+override UNFOLD_MIRRORS: bool = true;
+
 // The first hit's position with the sample (pack_position_sample), and the
 // rest of the hit.
 fn store_sample(pixel: vec2u, radiance_in: vec3f, pos: vec4f, normal: vec4f, ids: vec4u) {
-    textureStore(gbuf_sample, pixel, pack_position_sample(pos.xyz, radiance_in, sample_dither(pixel)));
+    var p = pos.xyz;
+    var n = normal.xyz;
+    if UNFOLD_MIRRORS && THROUGH_MIRRORS && path_primary_through && pos.w >= 0.0 {
+        p = frame.camera.origin + path_camera_dir * path_primary_len;
+        let turn = path_camera_dir - path_primary_dir;
+        if dot(turn, turn) > 1e-12 {
+            let m = normalize(turn);
+            n -= 2.0 * dot(n, m) * m;
+        }
+    }
+    textureStore(gbuf_sample, pixel, pack_position_sample(p, radiance_in, sample_dither(pixel)));
     // (Without SPLIT_DIRECT the direct light is a constant 0, and its
     // packing, which runs on every trip of the path loop, folds away.)
     let direct = select(vec3f(0.0), path_pixel_direct, SPLIT_DIRECT);
-    textureStore(gbuf_hit, pixel, pack_first_hit(normal, path_primary_albedo, first_hit_error_bits(pos, ids.z), direct));
+    textureStore(gbuf_hit, pixel, pack_first_hit(vec4f(n, normal.w), path_primary_albedo, first_hit_error_bits(pos, ids.z), direct));
 }

@@ -61,11 +61,6 @@ struct Params {
 override CAMERA_STILL: bool = false;
 override SCENE_STILL: bool = false;
 override NO_HISTORY: bool = false;
-// Whether the filters keep what a mirror shows apart from the surfaces seen
-// directly beside it (guide's mirror bit; 0 only to measure what that
-// brings: the floor a mirror sphere shows at its foot lies in the floor's
-// plane, and blended with it the sphere's outline there vanished).
-override MIRRORS_APART: bool = true;
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The first hit's position and the pixel's sample
@@ -261,7 +256,7 @@ fn temporal_step(pixel: vec2u) -> vec4f {
     textureStore(albedo, pixel, vec4f(h.albedo, h.m2_direct));
     textureStore(geo, pixel, vec4f(select(normal_to_oct(hit.n), vec2f(0.0), miss), select(g.w, -1.0, miss), luminance(l)));
     let rel = g.xyz - frame.camera.origin;
-    textureStore(guide, pixel, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(hit.n, MIRRORS_APART && hit.through_mirror), surface)));
+    textureStore(guide, pixel, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(hit.n, hit.through_mirror), surface)));
     // The direct light's mean: what R holds beyond A I (exactly the mean
     // of D where the albedo did not vary over the samples).
     let direct = demodulate(max(h.color - h.albedo * h.illum, vec3f(0.0)), h.albedo);

@@ -25,15 +25,21 @@ var<private> path_primary_normal: vec4f;
 var<private> path_primary_ids: vec4u;
 // With THROUGH_MIRRORS, the first hit recorded is the first one past any
 // perfect mirrors (specular share 1, roughness 0: a path goes on from them
-// in one direction only), with THROUGH_MIRROR_SHARE in the normal's w (what
+// in one direction only), with the specular share 1 in the normal's w (what
 // it shows depends on the view): a denoiser then filters what a mirror
 // shows as the surface it shows, and keeps the reflection sharp. While
 // `path_primary_open`, the path has met only such mirrors.
 override THROUGH_MIRRORS: bool = false;
 var<private> path_primary_open: bool;
-// The normal's w of a first hit seen through a mirror: beyond any specular
-// share (at most 1), so the G-buffer tells it apart.
 const THROUGH_MIRROR_SHARE: f32 = 2.0;
+// With THROUGH_MIRRORS: the camera ray's direction, the direction of the
+// ray that met the recorded hit and the path's length to it, and whether
+// mirrors came before it (the real-time path pass unfolds what a mirror
+// shows into the camera's view: shaders/realtime/path.wgsl).
+var<private> path_camera_dir: vec3f;
+var<private> path_primary_dir: vec3f;
+var<private> path_primary_len: f32;
+var<private> path_primary_through: bool;
 
 // Next-event estimation toward one light a bounce, chosen uniformly and
 // weighted by the light count, instead of every light: a bounce then
@@ -208,6 +214,15 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         let lit = hit_found(hit) && hit.object != NO_OBJECT && !is_emissive(m);
         path_primary_albedo = select(vec4f(0.0), vec4f(m.albedo, 1.0), lit);
         path_direct_state = select(0u, 1u, SPLIT_DIRECT && !path_primary_open && light_count() <= SPLIT_DIRECT_LIGHTS);
+        if THROUGH_MIRRORS {
+            if depth == 0u {
+                path_camera_dir = rd;
+                path_primary_len = 0.0;
+            }
+            path_primary_len += hit.t;
+            path_primary_dir = rd;
+            path_primary_through = depth > 0u;
+        }
     }
     // This hit's diffuse direct light is another pass's (FIRST_DIRECT_APART;
     // that pass shades Lambert surfaces only: a metallic-roughness one

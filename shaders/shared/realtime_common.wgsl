@@ -15,7 +15,7 @@ fn luminance(c: vec3f) -> f32 {
 
 // One pixel's surface as guide holds it: the hit relative to the camera,
 // the shading normal (`surface` false: no lit surface), and whether it was
-// seen through a mirror (`mirror`: GUIDE_MIRROR_BIT or 0).
+// seen through a mirror (`mirror`: GUIDE_MIRROR_BIT or 0; geometry_exponent).
 struct Guide {
     p: vec3f,
     n: vec3f,
@@ -195,12 +195,14 @@ fn plane_scale(p: Guide, depth_sigma: f32) -> f32 {
 const NORMAL_SHARPNESS: f32 = 4.0;
 
 // How much pixel q's surface counts toward pixel p's, times exp(-extra)
-// (one exponential for both surface tests and the caller's own): both
-// seen directly or both through a mirror (else a mirror's silhouette
-// against the floor it shows blurs away), normals
+// (one exponential for both surface tests and the caller's own): normals
 // within a narrow cone, and q's hit near p's tangent plane, within
 // `depth_sigma` pixel footprints per pixel of distance (`scale`:
-// plane_scale over the distance in pixels).
+// plane_scale over the distance in pixels). Between two pixels that both
+// show what a mirror shows the normals alone: the real-time path pass
+// unfolds those hits into the camera's view (shaders/realtime/path.wgsl),
+// and behind a curved mirror the unfolded points do not lie in the
+// tangent planes of the unfolded normals.
 fn geometry_weight(p: Guide, q: Guide, scale: f32, extra: f32) -> f32 {
     return exp(-geometry_exponent(p, q, scale) - extra);
 }
@@ -211,8 +213,8 @@ const NO_WEIGHT: f32 = 1.0e30;
 
 fn geometry_exponent(p: Guide, q: Guide, scale: f32) -> f32 {
     let dn = p.n - q.n;
-    let plane = abs(dot(q.p - p.p, p.n));
-    return select(NO_WEIGHT, NORMAL_SHARPNESS * dot(dn, dn) + plane * scale, p.surface && q.surface && p.mirror == q.mirror);
+    let plane = select(abs(dot(q.p - p.p, p.n)), 0.0, (p.mirror & q.mirror) != 0u);
+    return select(NO_WEIGHT, NORMAL_SHARPNESS * dot(dn, dn) + plane * scale, p.surface && q.surface);
 }
 
 // Pixels per side of a gradient stratum (shaders/realtime/gradient.wgsl).
