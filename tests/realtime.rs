@@ -308,7 +308,7 @@ fn taps_in_pairs_filter_smooth_gradients() {
 }
 
 /// A dark mirror sphere standing on a floor under a white sky: the floor
-/// seen in the mirror shows a third of the floor beside it.
+/// seen in the mirror is about half as bright as the floor beside it.
 const MIRROR_ON_FLOOR: &str = r#"Scene(
     camera: Camera(position: (0.0, 0.9, 2.6), target: (0.0, 0.35, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 40.0),
     background: (1.0, 1.0, 1.0),
@@ -324,11 +324,14 @@ const MIRROR_ON_FLOOR: &str = r#"Scene(
 )"#;
 
 #[test]
-fn what_a_mirror_shows_is_filtered_apart_from_the_surface_beside_it() {
+fn a_mirrors_outline_keeps_its_contrast_in_the_first_frame() {
     // At the mirror sphere's foot it shows the floor, in the plane of the
-    // floor beside it: unfolded into the camera's view (UNFOLD_MIRRORS)
-    // that floor faces the camera behind the sphere, and the filters keep
-    // it apart from the floor seen directly.
+    // floor beside it, darkened by its colour. Unfolded into the camera's
+    // view (UNFOLD_MIRRORS) that floor faces the camera behind the sphere,
+    // and divided by the mirror's colour with its own albedo it is lit as
+    // the floor is: the filters neither blend the two floors nor smear the
+    // mirror's colour into the floor beside it (both did until session 36:
+    // the outline's contrast measured 0.964 against the path tracer's 0.451).
     let Some(gpu) = gpu() else { return };
     let size = (64, 64);
     let render = |graph: &std::path::Path, frames: u32, seed: u32, kept: &[&str]| {
@@ -371,7 +374,8 @@ fn what_a_mirror_shows_is_filtered_apart_from_the_surface_beside_it() {
         }
     }
     // The contrast across it: the mean luminance on the mirror's side over
-    // the floor's (a blend pulls it toward 1), in the first frame over seeds.
+    // the floor's (a blend pulls it toward 1), in the first frame over seeds,
+    // unfolded and not.
     let mean = |img: &glint::gpu::readback::ImageF32, pixels: &Vec<usize>| pixels.iter().map(|&i| luminance(&img.data[i])).sum::<f64>() / pixels.len() as f64;
     let contrast = |img: &glint::gpu::readback::ImageF32| mean(img, &sides[1]) / mean(img, &sides[0]);
     let seeds = 4;
@@ -390,5 +394,5 @@ fn what_a_mirror_shows_is_filtered_apart_from_the_surface_beside_it() {
         first[1]
     );
     assert!(sides.iter().all(|s| s.len() > 10), "{} and {} pixels where the mirror meets the floor", sides[0].len(), sides[1].len());
-    assert!((first[0] - truth).abs() < 0.5 * (first[1] - truth).abs(), "contrast {:.3} unfolded, {:.3} not, against {truth:.3}", first[0], first[1]);
+    assert!((first[0] / truth - 1.0).abs() < 0.15, "contrast {:.3} in the first frame against the path tracer's {truth:.3}", first[0]);
 }

@@ -212,7 +212,10 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         path_primary_open = THROUGH_MIRRORS && hit_found(hit) && hit.light < 0 && m.specular >= 1.0 && m.roughness <= 0.0 && !is_metal_rough(m);
         path_primary_direct = vec3f(0.0);
         let lit = hit_found(hit) && hit.object != NO_OBJECT && !is_emissive(m);
-        path_primary_albedo = select(vec4f(0.0), vec4f(m.albedo, 1.0), lit);
+        // Seen through mirrors, times their colours (the throughput so far:
+        // 1 at the camera's first hit), so the light a denoiser divides out
+        // is the light at the surface, as beside the mirror.
+        path_primary_albedo = select(vec4f(0.0), vec4f(m.albedo * (*st).throughput, 1.0), lit);
         path_direct_state = select(0u, 1u, SPLIT_DIRECT && !path_primary_open && light_count() <= SPLIT_DIRECT_LIGHTS);
         if THROUGH_MIRRORS {
             if depth == 0u {
