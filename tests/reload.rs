@@ -4,8 +4,8 @@
 //! what was set live, live changes equal to the command line's) and through
 //! `glint render --watch` (each kind of save picked up once, a burst ending
 //! on its last content, a broken save reported and the output kept, Ctrl-C
-//! exiting 0). Every test works in a scratch copy of shaders/, passes/ and
-//! scenes/. That reloads release what they replace is checked in
+//! exiting 0), and pipelines built through a cache kept across runs. Every
+//! test works in a scratch copy of shaders/, passes/ and scenes/. That reloads release what they replace is checked in
 //! tests/reload_leak.rs, alone in its process.
 
 mod common;
@@ -535,4 +535,31 @@ fn watch_picks_up_each_save_once_and_keeps_the_last_good_shader() {
     let rest = w.until_quiet(Duration::from_millis(500));
     assert_eq!(status.code(), Some(0), "exit status after SIGINT: {status}\n{}", w.output());
     assert!(rest.iter().any(|l| l == "stopped watching"), "{rest:?}\n{}", w.output());
+}
+
+#[test]
+fn pipelines_are_built_through_a_cache_kept_across_runs_and_a_damaged_one_is_set_aside() {
+    let Some(gpu) = common::gpu() else { return };
+    use glint::gpu::pipeline_cache::DiskPipelineCache;
+    use glint::graph::pipelines::PipelineCache;
+    let dir = common::scratch("pipeline-cache");
+    let Some(disk) = DiskPipelineCache::open(&gpu.device, &gpu.info, &dir) else {
+        eprintln!("{}: no pipeline cache on this adapter", gpu.info.name);
+        return;
+    };
+    let scene = common::load_scene("cornell.ron");
+    let graph = common::compile(&scene, &common::repo().join("passes/realtime.ron"), &CompileOptions::default());
+    let build = |disk: &DiskPipelineCache| PipelineCache::default().build(&gpu.device, Some(disk), &graph, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert!(!build(&disk).built.is_empty());
+    // Saved once pipelines were built, under the adapter's key.
+    let saved = std::fs::read(disk.file()).unwrap_or_else(|e| panic!("no cache file at {}: {e}", disk.file().display()));
+    assert!(!saved.is_empty(), "an empty cache file");
+    // The next run starts from it; a damaged file starts an empty cache.
+    let again = DiskPipelineCache::open(&gpu.device, &gpu.info, &dir).unwrap_or_else(|| panic!("the cache did not open again"));
+    build(&again);
+    std::fs::write(disk.file(), b"not a pipeline cache").unwrap_or_else(|e| panic!("{e}"));
+    let damaged = DiskPipelineCache::open(&gpu.device, &gpu.info, &dir).unwrap_or_else(|| panic!("a damaged file kept the cache from opening"));
+    build(&damaged);
+    damaged.save();
+    assert!(gpu.uncaptured.lock().map(|u| u.is_empty()).unwrap_or(true), "GPU errors: {:?}", gpu.uncaptured.lock().map(|u| u.clone()));
 }

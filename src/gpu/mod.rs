@@ -2,6 +2,7 @@
 //! default. Also texture readback and timestamp queries. Knows nothing of
 //! graphs or scenes (docs/ARCHITECTURE.md, "Layers").
 
+pub mod pipeline_cache;
 pub mod readback;
 pub mod timing;
 
@@ -31,6 +32,9 @@ pub struct Gpu {
     /// Errors no error scope caught (wgpu's default handler would panic):
     /// logged once each and kept here for the viewer's overlay.
     pub uncaptured: Arc<Mutex<Vec<String>>>,
+    /// Compiled pipelines kept across runs, where the adapter keeps them
+    /// and `GLINT_PIPELINE_CACHE` is not `off` (pipeline_cache.rs).
+    pub pipeline_cache: Option<Arc<pipeline_cache::DiskPipelineCache>>,
 }
 
 /// How long glint waits for the GPU to finish submitted work before it
@@ -115,7 +119,8 @@ impl Gpu {
         let info = adapter.get_info();
         let wanted = wgpu::Features::TIMESTAMP_QUERY
             | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
-            | wgpu::Features::SUBGROUP;
+            | wgpu::Features::SUBGROUP
+            | wgpu::Features::PIPELINE_CACHE;
         let features = adapter.features() & wanted;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -135,8 +140,12 @@ impl Gpu {
                 l.push(message);
             }
         }));
+        let pipeline_cache = pipeline_cache::cache_dir(|name| std::env::var(name).ok())
+            .and_then(|dir| pipeline_cache::DiskPipelineCache::open(&device, &info, &dir))
+            .map(Arc::new);
         Ok(Gpu {
             uncaptured,
+            pipeline_cache,
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
             instance,
             adapter,

@@ -16,6 +16,7 @@ use std::sync::Arc;
 
 use crate::error::UserError;
 use crate::format::TexFormat;
+use crate::gpu::pipeline_cache::DiskPipelineCache;
 use crate::graph::schedule::{ResolvedBinding, ScheduledPass};
 use crate::graph::frame_kind::{self, Declared, FrameKind, FRAME_CONSTANTS};
 use crate::graph::CompiledGraph;
@@ -172,8 +173,10 @@ impl PipelineCache {
     /// Looks up or builds the pipeline of every pass of `graph`. Does not
     /// change `self`: the result carries the cache to swap in. The
     /// pipelines not in the cache are built in parallel (a driver compiles
-    /// each on the calling thread; lavapipe's LLVM takes 150-250 ms each).
-    pub fn build(&self, device: &wgpu::Device, graph: &CompiledGraph, engine: &[(&str, f64)]) -> Result<PipelineSet, UserError> {
+    /// each on the calling thread; lavapipe's LLVM takes 150-250 ms each),
+    /// through the driver's pipeline cache where there is one (`disk`),
+    /// which is saved when pipelines were built.
+    pub fn build(&self, device: &wgpu::Device, disk: Option<&DiskPipelineCache>, graph: &CompiledGraph, engine: &[(&str, f64)]) -> Result<PipelineSet, UserError> {
         let mut engine = engine.to_vec();
         engine.extend(graph.schedule.specialisations.iter().map(|s| s.as_constant()));
         // Each pass's key; the passes whose key is new, once per key.
@@ -196,7 +199,7 @@ impl PipelineCache {
             let sp = &passes[*i];
             // Looked up above: every pass's shader is loaded.
             let shader = &graph.shaders[&sp.shader];
-            create_guarded(device, sp, shader, constants)
+            create_guarded(device, disk.map(DiskPipelineCache::cache), sp, shader, constants)
         });
         let mut cache = PipelineCache::default();
         let mut built = Vec::new();
@@ -213,6 +216,9 @@ impl PipelineCache {
             };
             cache.entries.insert(k.clone(), Arc::clone(&p));
             per_pass.push(p);
+        }
+        if let (Some(disk), false) = (disk, built.is_empty()) {
+            disk.save();
         }
         Ok(PipelineSet { per_pass, built, cache })
     }
@@ -253,10 +259,10 @@ fn in_parallel<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec
 /// passed to a function, `f(&s.field)`: "Expression [n] is not cached!"); a
 /// shader is user input, and a running viewer keeps its last good state.
 /// The error scope `create` pushed is popped as its guard unwinds.
-fn create_guarded(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
+fn create_guarded(device: &wgpu::Device, disk: Option<&wgpu::PipelineCache>, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
     quiet_compiler_panics();
     COMPILING.set(true);
-    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| create(device, sp, shader, constants)));
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| create(device, disk, sp, shader, constants)));
     COMPILING.set(false);
     match outcome {
         Ok(result) => result,
@@ -319,7 +325,7 @@ fn check_workgroup_size(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shad
     Err(UserError::at(shader.source.original(line, 1), message))
 }
 
-fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
+fn create(device: &wgpu::Device, disk: Option<&wgpu::PipelineCache>, sp: &ScheduledPass, shader: &Shader, constants: &[(String, f64)]) -> Result<CachedPipeline, UserError> {
     check_workgroup_size(device, sp, shader)?;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let mut by_group: BTreeMap<u32, Vec<&ResolvedBinding>> = BTreeMap::new();
@@ -356,7 +362,7 @@ fn create(device: &wgpu::Device, sp: &ScheduledPass, shader: &Shader, constants:
             module: &module,
             entry_point: Some(entry),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
+            cache: disk,
         }))
     };
     let declared = frame_kind::declared(shader.info.overrides.iter().map(|o| o.name.as_str()));

@@ -196,7 +196,7 @@ impl Session {
         });
         let mut constants = scene.engine_constants();
         constants.push(tile_pool::constant(gpu.info.device_type));
-        let set = PipelineCache::default().build(&gpu.device, &graph, &constants)?;
+        let set = PipelineCache::default().build(&gpu.device, gpu.pipeline_cache.as_deref(), &graph, &constants)?;
         graph::check_dispatches(&graph, options.size, gpu.device.limits().max_compute_workgroups_per_dimension)?;
         let executor = Executor::new(gpu, &graph.schedule, &set.per_pass, &|e| scene.binding(e, &frame_buffer), options.size, None)?;
         Ok(Session {

@@ -217,7 +217,7 @@ impl RebuildJob {
         let graph = graph::compile_loaded(&path, desc, shaders, &features, &options)?;
         let mut constants = scene.as_ref().map_or(engine_constants, |s| s.engine_constants());
         constants.push(tile_pool::constant(gpu.info.device_type));
-        let pipelines = cache.build(&gpu.device, &graph, &constants)?;
+        let pipelines = cache.build(&gpu.device, gpu.pipeline_cache.as_deref(), &graph, &constants)?;
         Ok(Rebuild { kind, graph, pipelines, scene, options, started })
     }
 }
