@@ -109,12 +109,6 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     var value = own.rgb;
     var var_mean = 0.0;
     var var_d = 0.0;
-    // While only the blur fades out (history from min_history to 3
-    // blur_history), its taps are the moments' blur's: one loop loads
-    // each neighbour once for both.
-    let merged = !spatial_variance && blur > 0.0;
-    var sum = select(0.0, 0.25 * own.a, !spatial_variance);
-    var sum_d = select(0.0, 0.25 * own_d.a, temporal_direct);
     if spatial_variance || blur > 0.0 {
         // A 3x3 of neighbours, SPREAD_STEP pixels apart for the spread
         // (the 5x5's 25 taps measured the same first frames over 12 seeds
@@ -136,7 +130,6 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
         // divides one lane at a time).
         var d = vec2i(-1, -1);
         for (var k = 0u; k < pairs; k++) {
-            let dk = d;
             let qa = clamp(p + d * step, vec2i(0), size - 1);
             let qb = clamp(p - d * step, vec2i(0), size - 1);
             let scale = plane_scale * inverseSqrt(f32(dot(d, d) * step * step));
@@ -146,18 +139,9 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
             if d.x > 1 {
                 d = vec2i(-1, d.y + 1);
             }
-            let ta = textureLoad(tex, qa);
-            let tb = textureLoad(tex, qb);
-            light = spread_add(spread_add(light, wa, ta.rgb), wb, tb.rgb);
+            light = spread_add(spread_add(light, wa, textureLoad(tex, qa).rgb), wb, textureLoad(tex, qb).rgb);
             if with_direct && !temporal_direct {
                 direct = spread_add(spread_add(direct, wa, textureLoad(dtex, qa).rgb), wb, textureLoad(dtex, qb).rgb);
-            }
-            if merged {
-                let kernel = select(0.5, 0.25, dk.x != 0) * select(0.5, 0.25, dk.y != 0);
-                sum += kernel * (ta.a + tb.a);
-                if temporal_direct {
-                    sum_d += kernel * (textureLoad(dtex, qa).a + textureLoad(dtex, qb).a);
-                }
             }
             wsum += wa + wb;
         }
@@ -170,10 +154,12 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
             var_d = spread_variance(direct, wsum, n, params.direct_boost);
         }
     }
-    if (!spatial_variance || temporal_direct) && !(merged && gp.surface) {
+    if !spatial_variance || temporal_direct {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
         // only the noise's level is blurred. The centre, then opposite
         // pairs, as above.
+        var sum = select(0.0, 0.25 * own.a, !spatial_variance);
+        var sum_d = select(0.0, 0.25 * own_d.a, temporal_direct);
         let pairs = 4u * u32(frame.exact_one);
         var d = vec2i(-1, -1);
         for (var k = 0u; k < pairs; k++) {
@@ -191,12 +177,12 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
                 d = vec2i(-1, 0);
             }
         }
-    }
-    if !spatial_variance {
-        var_mean = sum;
-    }
-    if temporal_direct {
-        var_d = sum_d;
+        if !spatial_variance {
+            var_mean = sum;
+        }
+        if temporal_direct {
+            var_d = sum_d;
+        }
     }
     return Estimate(vec4f(value, var_mean), vec4f(own_d.rgb, var_d));
 }
