@@ -41,5 +41,5 @@ fn store_sample(pixel: vec2u, radiance_in: vec3f, pos: vec4f, normal: vec4f, ids
     // (Without SPLIT_DIRECT the direct light is a constant 0, and its
     // packing, which runs on every trip of the path loop, folds away.)
     let direct = select(vec3f(0.0), path_pixel_direct, SPLIT_DIRECT);
-    textureStore(gbuf_hit, pixel, pack_first_hit(vec4f(n, normal.w), path_primary_albedo, first_hit_error_bits(pos, ids.z), direct));
+    textureStore(gbuf_hit, pixel, pack_first_hit(vec4f(n, normal.w), path_primary_albedo, first_hit_error_bits(pos, ids.z, path_primary_through), direct));
 }

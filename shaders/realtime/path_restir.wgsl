@@ -14,7 +14,7 @@
 
 fn store_sample(pixel: vec2u, radiance_in: vec3f, pos: vec4f, normal: vec4f, ids: vec4u) {
     textureStore(gbuf_sample, pixel, pack_position_sample(pos.xyz, radiance_in, sample_dither(pixel)));
-    textureStore(gbuf_hit, pixel, pack_first_hit(normal, path_primary_albedo, first_hit_error_bits(pos, ids.z), vec3f(0.0)));
+    textureStore(gbuf_hit, pixel, pack_first_hit(normal, path_primary_albedo, first_hit_error_bits(pos, ids.z, path_primary_through), vec3f(0.0)));
     let ng = pack2x16snorm(normal_to_oct(path_primary_ng));
     textureStore(di_surface, pixel, vec4u(bitcast<vec3u>(path_primary_direct), ng));
 }

@@ -31,7 +31,6 @@ var<private> path_primary_ids: vec4u;
 // `path_primary_open`, the path has met only such mirrors.
 override THROUGH_MIRRORS: bool = false;
 var<private> path_primary_open: bool;
-const THROUGH_MIRROR_SHARE: f32 = 2.0;
 // With THROUGH_MIRRORS: the camera ray's direction, the direction of the
 // ray that met the recorded hit and the path's length to it, and whether
 // mirrors came before it (the real-time path pass unfolds what a mirror
@@ -202,7 +201,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     if recording {
         path_primary_pos = select(vec4f(hit.position, hit.t), vec4f(rd, -1.0), !hit_found(hit));
         let facing = shaded.normal * select(1.0, -1.0, dot(hit.geo_normal, rd) > 0.0);
-        var view_dependent = select(m.specular, THROUGH_MIRROR_SHARE, depth > 0u);
+        var view_dependent = select(m.specular, 1.0, depth > 0u);
         if is_metal_rough(m) && depth == 0u {
             // The share of what it shows that depends on the view, roughly.
             view_dependent = mr_specular_probability(as_metal_rough(m), abs(dot(shaded.normal, rd))) * (1.0 - m.roughness);

@@ -55,8 +55,7 @@ fn unpack_guide_normal(w: u32) -> vec3f {
 //      (an object that does not glow);
 //   z: the hit's error bound (f32 bits, what its rays are offset by;
 //      MISS_ERROR_BITS where the ray hit nothing), its sign bit set where
-//      the hit was seen through a mirror (THROUGH_MIRRORS: the normal's w
-//      is THROUGH_MIRROR_SHARE);
+//      the hit was seen through a mirror (THROUGH_MIRRORS);
 //   w: the light the hit received directly (SPLIT_DIRECT, shared/path.wgsl;
 //      else 0), shared-exponent RGB9E5.
 // The albedo's and the direct light's rounding cost nothing in the end:
@@ -69,20 +68,21 @@ const LIT_SURFACE_BIT: u32 = 0x80000000u;
 const MISS_ERROR_BITS: u32 = 0xbf800000u;
 
 // gbuf_hit's error word for a first hit (`pos` its path_primary_pos: w < 0
-// on a miss).
-fn first_hit_error_bits(pos: vec4f, error_bits: u32) -> u32 {
-    return select(error_bits, MISS_ERROR_BITS, pos.w < 0.0);
+// on a miss), with its sign set where the hit was seen through a mirror
+// (a bound of exactly 1 seen through one would read as a miss, so it grows
+// by one ulp: still a bound).
+fn first_hit_error_bits(pos: vec4f, error_bits: u32, through_mirror: bool) -> u32 {
+    if pos.w < 0.0 {
+        return MISS_ERROR_BITS;
+    }
+    let error = select(error_bits, error_bits | 0x80000000u, through_mirror);
+    return error + u32(error == MISS_ERROR_BITS);
 }
 
 fn pack_first_hit(normal: vec4f, albedo: vec4f, error_bits: u32, direct: vec3f) -> vec4u {
     let q = vec3u(round(clamp(albedo.rgb, vec3f(0.0), vec3f(1.0)) * 1023.0));
     let flags = select(0u, VIEW_DEPENDENT_BIT, normal.w > 0.0) | select(0u, LIT_SURFACE_BIT, albedo.w > 0.0);
-    // (A miss's normal is 0, so a mirror's miss stays MISS_ERROR_BITS; a
-    // bound of exactly 1 seen through one would read as a miss, so it
-    // grows by one ulp: still a bound.)
-    var error = select(error_bits, error_bits | 0x80000000u, normal.w > 1.5);
-    error += u32(error == MISS_ERROR_BITS && normal.w > 1.5);
-    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), q.r | (q.g << 10u) | (q.b << 20u) | flags, error, pack_rgb9e5(direct));
+    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), q.r | (q.g << 10u) | (q.b << 20u) | flags, error_bits, pack_rgb9e5(direct));
 }
 
 // What gbuf_hit holds, unpacked.
