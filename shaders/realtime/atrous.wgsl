@@ -74,15 +74,19 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
     if with_direct {
         own_d = textureLoad(dtex, p);
     }
+    // Once the image has stood still long enough the step passes its
+    // input through, reading nothing else (the condition is the same for
+    // every lane, so a SIMD driver skips what follows).
+    if params.until_frames > 0u && frame.accum_count >= params.until_frames {
+        return Filtered(own, own_d);
+    }
     let gp = load_guide(guide, p);
     let size = vec2i(frame.size);
     // 1/4, 1/2, 1/4 in each axis; the centre's weight is (1/2)^2.
     var light = centre_sums(own);
     var direct = centre_sums(own_d);
-    // Taps off the centre, where a lane has a surface to filter (the same
-    // for every lane once the image has stood still long enough).
-    let still_enough = params.until_frames > 0u && frame.accum_count >= params.until_frames;
-    let pairs = select(0u, 4u, gp.surface && !still_enough) * u32(frame.exact_one);
+    // Taps off the centre, where a lane has a surface to filter.
+    let pairs = select(0u, 4u, gp.surface) * u32(frame.exact_one);
     let plane_scale = plane_scale(gp, params.depth_sigma) / f32(STEP);
     // The taps in opposite pairs, a (up and left of the centre, stepped
     // through without an integer division: a SIMD CPU driver divides one
