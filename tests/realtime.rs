@@ -33,8 +33,12 @@ fn mean_luminance(img: &ImageF32) -> f64 {
 
 /// `frames` still frames of `graph` at `time`; its output.
 fn still(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, graph: &std::path::Path, frames: u32, time: f32) -> ImageF32 {
+    still_at(gpu, scene, graph, frames, time, SIZE)
+}
+
+fn still_at(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, graph: &std::path::Path, frames: u32, time: f32, size: (u32, u32)) -> ImageF32 {
     let compiled = compile(&scene, graph, &CompileOptions::default());
-    let mut s = session(gpu, scene, &compiled, SIZE, 1);
+    let mut s = session(gpu, scene, &compiled, size, 1);
     for _ in 0..frames {
         s.frame(time);
     }
@@ -93,6 +97,9 @@ fn the_filters_variance_falls_with_history() {
     assert!(means[1] < means[0] / 2.0, "variance did not fall with history: {means:?}");
 }
 
+/// The light-jump test, at 64x64.
+const JUMP_SIZE: (u32, u32) = (64, 64);
+
 #[test]
 fn a_light_jump_drops_stale_history_where_light_changed_and_leaves_no_ghost() {
     let Some(gpu) = gpu() else { return };
@@ -101,12 +108,12 @@ fn a_light_jump_drops_stale_history_where_light_changed_and_leaves_no_ghost() {
     // Converged images before and after the jump, and a fresh start at the
     // new position: the error a graph without stale history would have.
     let pathtrace = repo().join("passes/pathtrace.ron");
-    let before = still(gpu, scene_from(JUMPING_LIGHT), &pathtrace, 256, 0.0);
-    let after = still(gpu, scene_from(JUMPING_LIGHT), &pathtrace, 256, 1.0);
+    let before = still_at(gpu, scene_from(JUMPING_LIGHT), &pathtrace, 256, 0.0, JUMP_SIZE);
+    let after = still_at(gpu, scene_from(JUMPING_LIGHT), &pathtrace, 256, 1.0, JUMP_SIZE);
     const SETTLE: u32 = 8;
-    let fresh = still(gpu, scene_from(JUMPING_LIGHT), &realtime(), SETTLE, 1.0);
+    let fresh = still_at(gpu, scene_from(JUMPING_LIGHT), &realtime(), SETTLE, 1.0, JUMP_SIZE);
 
-    let mut s = session(gpu, scene, &compiled, SIZE, 1);
+    let mut s = session(gpu, scene, &compiled, JUMP_SIZE, 1);
     for _ in 0..32 {
         s.frame(0.0);
     }
