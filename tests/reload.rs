@@ -4,8 +4,9 @@
 //! what was set live, live changes equal to the command line's) and through
 //! `glint render --watch` (each kind of save picked up once, a burst ending
 //! on its last content, a broken save reported and the output kept, Ctrl-C
-//! exiting 0), and pipelines built through a cache kept across runs. Every
-//! test works in a scratch copy of shaders/, passes/ and scenes/. That reloads release what they replace is checked in
+//! exiting 0), and pipelines built through a cache kept across runs.
+//! Every test works in a scratch copy of shaders/, passes/ and scenes/.
+//! That reloads release what they replace is checked in
 //! tests/reload_leak.rs, alone in its process.
 
 mod common;
