@@ -25,9 +25,10 @@
 // (temporal.wgsl's `direct_in`).
 //
 // Once the camera and scene have stood still for `until_frames` frames
-// (0: never), an iteration passes its input through: by then each
-// pixel's mean has so little noise left that this step's taps would be
-// weighted near zero, and the pass costs a load and a store.
+// (0: never), an iteration passes its input through, and the pass costs
+// a load and a store (realtime.ron stops its wide steps so: by then
+// their taps reach surfaces whose light differs by more than the means'
+// noise, and remove little; docs/realtime.md, "In the limit").
 #import realtime_common
 
 override STEP: i32 = 1;
