@@ -1,4 +1,4 @@
-//! Acceleration (docs/acceleration.md): a binned-SAH BVH per mesh (BLAS)
+//! Acceleration (docs/acceleration.md): binned-SAH BVHs over triangles (BLAS)
 //! built on the CPU, a TLAS over instances (meshes, spheres, light spheres),
 //! the flattened GPU layout, and a Rust mirror of the WGSL ray math and
 //! traversal for exhaustive CPU tests.

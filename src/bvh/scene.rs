@@ -1,5 +1,6 @@
 //! The scene's two-level BVH in one node array: the TLAS first (root at 0),
-//! then one BLAS per mesh over its world-space triangles. TLAS leaves carry
+//! then one BLAS per `MeshGpu` over its world-space triangles (every object
+//! that never moves shares one: `Scene::pack_at`). TLAS leaves carry
 //! `TLAS_LEAF` in `count` and index `instances`; a mesh instance points at
 //! its BLAS root, a sphere instance at the sphere.
 //!

@@ -12,7 +12,7 @@ use super::gpu_types::{
 };
 use super::texture_classes;
 use super::world::{
-    Light, LightIndex, MaterialId, MeshShape, ObjectId, Scene, SphereShape, SpotCone, TextureSlot, Transform,
+    Light, LightIndex, MaterialId, MeshShape, Motion, ObjectId, Scene, SphereShape, SpotCone, TextureSlot, Transform,
 };
 
 impl Scene {
@@ -25,7 +25,8 @@ impl Scene {
     /// `origin` (computed in f64, rounded to f32 once). Deterministic order.
     ///
     /// Spheres: sphere objects, then one per sphere light (`light` = its
-    /// index in `lights`). Meshes: one per quad or mesh object, each with a
+    /// index in `lights`). Meshes: one for every quad and mesh object that
+    /// does not move, then one per object that does, each with a
     /// world-space box over its slice of `triangles`.
     pub fn pack_at(&self, origin: DVec3) -> SceneData {
         let at = |t: &Transform| (t.translation - origin).as_vec3();
@@ -73,19 +74,25 @@ impl Scene {
         spheres.sort_by_key(|s| s.0);
         spheres.extend(lights.iter().filter_map(|l| l.3.map(|s| (l.1, s))));
 
-        let mut instances: Vec<(ObjectId, Transform, usize)> = self
+        // Objects that never move first, in one run: their triangles share
+        // one MeshGpu, so one BLAS (a TLAS instance per quad cost a CPU
+        // driver a BLAS traversal per instance a ray's path crosses:
+        // docs/acceleration.md, "Objects that never move in one BLAS").
+        // Each moving object keeps its own, which motion refits alone.
+        let mut instances: Vec<(bool, ObjectId, Transform, usize)> = self
             .world
-            .query::<(&ObjectId, &Transform, &MeshShape)>()
+            .query::<(&ObjectId, &Transform, &MeshShape, Option<&Motion>)>()
             .iter()
-            .map(|(id, t, m)| (*id, *t, m.mesh))
+            .map(|(id, t, m, motion)| (motion.is_some(), *id, *t, m.mesh))
             .collect();
-        instances.sort_by_key(|i| i.0);
+        instances.sort_by_key(|i| (i.0, i.1));
         let mut triangles = Vec::with_capacity(self.triangle_count());
         let mut normals = Vec::with_capacity(self.triangle_count());
-        let mut meshes = Vec::with_capacity(instances.len());
+        let mut meshes: Vec<MeshGpu> = Vec::with_capacity(instances.len());
         let textured = self.features.textures;
         let mut uvs = Vec::with_capacity(if textured { self.triangle_count() } else { 0 });
-        for (id, t, mesh) in instances {
+        let mut last_static = false;
+        for (moves, id, t, mesh) in instances {
             let Some(data) = self.meshes.get(mesh) else {
                 continue;
             };
@@ -124,14 +131,18 @@ impl Scene {
                 });
             }
             let count = triangles.len() as u32 - first;
-            if count > 0 {
-                meshes.push(MeshGpu {
-                    bmin: lo.into(),
-                    first,
-                    bmax: hi.into(),
-                    count,
-                });
+            if count == 0 {
+                continue;
             }
+            match meshes.last_mut() {
+                Some(run) if last_static && !moves => {
+                    run.bmin = Vec3::from(run.bmin).min(lo).into();
+                    run.bmax = Vec3::from(run.bmax).max(hi).into();
+                    run.count += count;
+                }
+                _ => meshes.push(MeshGpu { bmin: lo.into(), first, bmax: hi.into(), count }),
+            }
+            last_static = !moves;
         }
 
         SceneData {

@@ -124,7 +124,8 @@ fn cornell_packs_quads_spheres_and_the_light() {
     assert_eq!(s.triangle_count(), 10);
     let d = s.pack();
     assert_eq!(d.triangles.len(), 10);
-    assert_eq!(d.meshes.len(), 5);
+    // The five quads, none moving, in one MeshGpu (one BLAS).
+    assert_eq!((d.meshes.len(), d.meshes[0].count), (1, 10));
     assert_eq!(d.spheres.len(), 3);
     assert_eq!(d.lights.len(), 1);
     // white, red, green, mirror, then the light's emissive material.
@@ -135,9 +136,9 @@ fn cornell_packs_quads_spheres_and_the_light() {
         MaterialGpu::thesis([0.0; 3], 0.0, [10.0; 3], 1.0)
     );
 
-    for (i, m) in d.meshes.iter().enumerate() {
-        assert_eq!((m.first, m.count), (2 * i as u32, 2));
-        let range = m.first as usize..(m.first + m.count) as usize;
+    // Quad i's two triangles at 2i, in object order.
+    for i in 0..5 {
+        let range = 2 * i..2 * i + 2;
         for (t, tn) in d.triangles[range.clone()].iter().zip(&d.normals[range]) {
             assert_eq!(t.object, i as u32);
             assert_eq!((t._pad0, tn._pad1, tn._pad2, tn._pad3), (0, 0.0, 0.0, 0.0));
@@ -152,9 +153,10 @@ fn cornell_packs_quads_spheres_and_the_light() {
                 "normal disagrees with the winding"
             );
         }
-        for k in 0..3 {
-            assert!(m.bmin[k] >= -1.0 && m.bmax[k] <= 1.0 && m.bmin[k] <= m.bmax[k]);
-        }
+    }
+    let m = d.meshes[0];
+    for k in 0..3 {
+        assert!(m.bmin[k] >= -1.0 && m.bmax[k] <= 1.0 && m.bmin[k] <= m.bmax[k]);
     }
     // Red left wall, green right wall.
     assert_eq!(d.triangles[6].material, 1);
@@ -220,15 +222,14 @@ fn moving_lights_has_the_knot_on_the_floor() {
     let mut s = shipped("moving-lights.ron");
     assert_eq!(s.triangle_count(), 10 + 4000);
     let d = s.pack();
-    assert_eq!(d.meshes.len(), 6);
-    let knot = d.meshes[5];
-    assert_eq!((knot.first, knot.count), (10, 4000));
-    assert!(
-        (knot.bmin[1] + 1.0).abs() < 2e-3,
-        "knot bottom at {}",
-        knot.bmin[1]
-    );
-    assert!(knot.bmin.iter().chain(&knot.bmax).all(|c| c.abs() < 1.0));
+    // The room's five quads and the knot, none moving, in one MeshGpu;
+    // the knot's triangles after the quads'.
+    assert_eq!(d.meshes.len(), 1);
+    assert_eq!((d.meshes[0].first, d.meshes[0].count), (0, 10 + 4000));
+    let knot: Vec<Vec3> = d.triangles[10..].iter().flat_map(|t| [t.p0, t.p1, t.p2]).map(Vec3::from).collect();
+    let (lo, hi) = knot.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    assert!((lo.y + 1.0).abs() < 2e-3, "knot bottom at {}", lo.y);
+    assert!(lo.abs().max_element() < 1.0 && hi.abs().max_element() < 1.0);
     // 3 named, the MTL material of knot.obj, 3 emissive light materials.
     assert_eq!(d.materials.len(), 7);
     let kd = d.materials[3];
@@ -304,6 +305,30 @@ fn linear_motion_moves_spheres_and_meshes() {
 }
 
 #[test]
+fn objects_that_never_move_share_one_mesh_and_movers_keep_their_own() {
+    let dir = TempDir::new("runs");
+    dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    // A mover between two still objects, and one after them.
+    let objects = r#"        Mesh(path: "tri.obj", translate: (0.0, 0.0, -1.0)),
+        Mesh(path: "tri.obj", translate: (0.0, 0.0, -2.0), motion: Some(Linear(velocity: (1.0, 0.0, 0.0)))),
+        Quad(vertices: [(0.0, 0.0, -3.0), (1.0, 0.0, -3.0), (1.0, 1.0, -3.0), (0.0, 1.0, -3.0)], material: "white"),
+        Mesh(path: "tri.obj", translate: (0.0, 0.0, -4.0), motion: Some(Linear(velocity: (0.0, 1.0, 0.0)))),"#;
+    let mut s = parse(&scene(objects, ""), &dir.0.join("runs.ron")).unwrap();
+    let d = s.pack();
+    // The still triangle and quad first, in one run; then each mover.
+    let runs: Vec<(u32, u32)> = d.meshes.iter().map(|m| (m.first, m.count)).collect();
+    assert_eq!(runs, vec![(0, 3), (3, 1), (4, 1)]);
+    assert_eq!((d.meshes[0].bmin, d.meshes[0].bmax), ([0.0, 0.0, -3.0], [1.0, 1.0, -1.0]));
+    assert_eq!(d.triangles[3].object, 1);
+    assert_eq!(d.triangles[4].object, 3);
+    // Motion moves its own run alone.
+    assert!(s.animate(1.0));
+    let moved = s.pack();
+    assert_eq!(moved.meshes[0].bmin, d.meshes[0].bmin);
+    assert_eq!((moved.meshes[1].bmin, moved.meshes[2].bmin), ([1.0, 0.0, -2.0], [0.0, 1.0, -4.0]));
+}
+
+#[test]
 fn meshes_transform_and_take_materials() {
     let dir = TempDir::new("mesh");
     // No normals, no MTL: flat normals and the default white.
@@ -349,7 +374,12 @@ fn meshes_transform_and_take_materials() {
     let tn = d.normals[0];
     assert!((Vec3::from(tn.n0) - Vec3::X).length() < 1e-5, "{:?}", tn.n0);
     assert_eq!(t.material, 2);
-    assert!((d.meshes[0].bmin[2] - 1.0).abs() < 1e-5 && (d.meshes[0].bmax[1] - 4.0).abs() < 1e-5);
+    // The first object's two triangles span z from 1 and y up to 4 (the
+    // four objects, none moving, share one MeshGpu: its box spans them all).
+    let first: Vec<Vec3> = d.triangles[..2].iter().flat_map(|t| [t.p0, t.p1, t.p2]).map(Vec3::from).collect();
+    let (lo, hi) = first.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    assert!((lo.z - 1.0).abs() < 1e-5 && (hi.y - 4.0).abs() < 1e-5, "{lo} {hi}");
+    assert_eq!((d.meshes.len(), d.meshes[0].count), (1, 6));
     assert_eq!(d.triangles[2].material, 3);
     assert_eq!(d.triangles[3].material, 1);
     assert_eq!(
