@@ -82,23 +82,32 @@ override BRUTE_FORCE: bool = false;
 // lane has left. The path tracer took 0.95x the time without that trip.
 fn brute_force(r: Ray, tmax: f32, any_hit: bool) -> Closest {
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
-    if SCENE_SPHERES && frame.n_spheres > 0u {
-        var i = 0u;
-        loop {
-            loop_trips += 1u;
-            if test_sphere(r, i, tmax, any_hit, &best) {
-                return best;
-            }
-            continuing {
-                i++;
-                break if i >= frame.n_spheres;
-            }
-        }
+    if test_spheres(r, tmax, any_hit, &best) {
+        return best;
     }
     if SCENE_MESHES {
         test_triangles(r, 0u, frame.n_triangles, tmax, any_hit, &best);
     }
     return best;
+}
+
+// Tests every sphere into `best`; true when any_hit and one was hit (stop).
+fn test_spheres(r: Ray, tmax: f32, any_hit: bool, best: ptr<function, Closest>) -> bool {
+    if !SCENE_SPHERES || frame.n_spheres == 0u {
+        return false;
+    }
+    var i = 0u;
+    loop {
+        loop_trips += 1u;
+        if test_sphere(r, i, tmax, any_hit, best) {
+            return true;
+        }
+        continuing {
+            i++;
+            break if i >= frame.n_spheres;
+        }
+    }
+    return false;
 }
 
 // Tests sphere i into `best`; true when any_hit and it was hit (stop).
@@ -146,6 +155,16 @@ fn test_triangles(r: Ray, first: u32, count: u32, tmax: f32, any_hit: bool, best
 // the traversal code no longer fitting the instruction cache next to the
 // flat loop cost more than the loop itself.
 override FLAT_SCENE: bool = false;
+
+// Set per scene by the engine (`SceneData::spheres_apart`): a scene that is
+// not flat with at most FLAT_LIMIT spheres tests them all in a loop before
+// its BVH, whose TLAS then holds the meshes alone. On a CPU driver a TLAS
+// instance costs a ray that crosses it a trip of the TLAS loop and, where
+// lanes reach a mesh leaf on different trips, another run of the BLAS
+// loop: thesis-env3's 15 small light spheres as instances more than
+// doubled its path pass; a sphere test in a loop every lane runs in step
+// costs little.
+override SPHERES_APART: bool = false;
 
 // Set per scene by the engine (`is_one_mesh` in src/scene/buffers.rs): the
 // TLAS is one leaf holding one mesh and nothing else, so traversal starts
@@ -384,6 +403,9 @@ fn traverse_opaque(r: Ray, tmax: f32, any_hit: bool, enter: u32, pixel: vec2u) -
         return brute_force(r, tmax, false);
     }
     var best = Closest(tmax, NO_HIT, vec2f(0.0));
+    if SPHERES_APART && test_spheres(r, tmax, any_hit, &best) {
+        return best;
+    }
     if ONE_MESH {
         // No root box test: the BLAS tests its root's children first thing,
         // inside the mesh's box, so the hits are the same.

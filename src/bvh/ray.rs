@@ -10,7 +10,7 @@
 
 use glam::Vec3;
 
-use super::scene::{InstanceGpu, INSTANCE_MESH, TLAS_LEAF};
+use super::scene::{InstanceGpu, INSTANCE_MESH, INSTANCE_SPHERE, TLAS_LEAF};
 use super::BvhNode;
 use crate::scene::{SphereGpu, TriangleGpu};
 
@@ -325,6 +325,15 @@ impl Geometry<'_> {
         let finite = r.o.is_finite() && r.d.is_finite() && r.d != Vec3::ZERO;
         if self.nodes.is_empty() || !finite {
             return;
+        }
+        // Spheres that are no TLAS instance are tested apart, first
+        // (`SceneData::spheres_apart`, SPHERES_APART in intersect.wgsl).
+        if !self.instances.iter().any(|i| i.kind == INSTANCE_SPHERE) {
+            for i in 0..self.spheres.len() as u32 {
+                if visit(self, 0, i, best) {
+                    return;
+                }
+            }
         }
         let mut stack = [(0u32, 0.0f32); STACK];
         let mut sp = 0;

@@ -135,7 +135,9 @@ impl SceneBvh {
                 inst.push((INSTANCE_MESH, m));
             }
         }
-        for (i, s) in data.spheres.iter().enumerate() {
+        // Spheres tested apart (`SceneData::spheres_apart`) are not instances.
+        let spheres = if data.spheres_apart() { &[][..] } else { &data.spheres[..] };
+        for (i, s) in spheres.iter().enumerate() {
             let c = Vec3::from(s.center);
             inst_bounds.push(Aabb { min: c - Vec3::splat(s.radius), max: c + Vec3::splat(s.radius) });
             inst.push((INSTANCE_SPHERE, i));

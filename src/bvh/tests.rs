@@ -17,9 +17,9 @@ use glam::{DVec3, Vec3};
 use super::offset::{offset_ray, ray_point_error, sphere_error, triangle_error, triangle_hit};
 use super::{BLAS_MAX_DEPTH, TLAS_MAX_DEPTH};
 use super::ray::{hit_sphere, hit_triangle, next_up, triangle_t_error, Geometry, Hit, Ray, SPHERE_BIT, STACK};
-use super::scene::{SceneBvh, INSTANCE_MESH, TLAS_LEAF};
+use super::scene::{SceneBvh, INSTANCE_MESH, INSTANCE_SPHERE, TLAS_LEAF};
 use super::{Aabb, BvhNode};
-use crate::scene::{MeshGpu, SceneData, SphereGpu, TriangleGpu};
+use crate::scene::{MeshGpu, SceneData, SphereGpu, TriangleGpu, FLAT_LIMIT};
 
 const INF: f32 = f32::INFINITY;
 
@@ -374,6 +374,34 @@ fn bvh_matches_brute_force_on_random_soups() {
         cmp.ray_bounds(f(o), f(dir));
     }
     cmp.finish();
+}
+
+/// Up to FLAT_LIMIT spheres are tested apart, before the BVH, whose TLAS
+/// then holds the meshes alone (SPHERES_APART); more are TLAS instances.
+/// Both ways find what testing everything finds.
+#[test]
+fn spheres_are_tested_apart_up_to_the_flat_limit_and_as_instances_beyond() {
+    let mut rng = Rng::new(9);
+    let apart = random_soup(&mut rng, &[40, 500], 16);
+    assert!(apart.spheres_apart());
+    assert!(apart.instances.iter().all(|i| i.kind == INSTANCE_MESH), "{:?}", apart.instances);
+    let many = random_soup(&mut rng, &[40, 500], FLAT_LIMIT + 8);
+    assert!(!many.spheres_apart());
+    assert_eq!(many.instances.iter().filter(|i| i.kind == INSTANCE_SPHERE).count(), FLAT_LIMIT + 8);
+    for (name, data) in [("spheres apart", &apart), ("spheres as instances", &many)] {
+        let mut cmp = Compare::new(name, data);
+        for i in 0..3000 {
+            let o = rng.in_box(30.0);
+            let target = if i % 2 == 0 {
+                let s = data.spheres[rng.below(data.spheres.len())];
+                d(Vec3::from(s.center)) + rng.unit() * (s.radius as f64 * rng.range(0.0, 1.05))
+            } else {
+                d(point_on(&mut rng, &data.triangles))
+            };
+            cmp.ray_bounds(f(o), f((target - o).normalize()));
+        }
+        cmp.finish();
+    }
 }
 
 /// Directions with components exactly +0.0, -0.0, +1e-30 and -1e-30 in every

@@ -331,6 +331,17 @@ impl SceneData {
             && !self.lights.iter().any(|l| l.kind == LIGHT_DIRECTIONAL || l.kind == LIGHT_ENVIRONMENT)
     }
 
+    /// Whether rays test the spheres in a loop of their own before walking
+    /// the BVH, which then holds the meshes alone (the `SPHERES_APART`
+    /// override of shaders/shared/intersect.wgsl): a scene that is not flat
+    /// with at most FLAT_LIMIT spheres (light spheres included). On a CPU
+    /// driver a TLAS instance costs a ray that crosses it far more than a
+    /// sphere test: thesis-env3's 15 small light spheres more than doubled
+    /// its path pass as instances (docs/acceleration.md, "Spheres apart").
+    pub fn spheres_apart(&self) -> bool {
+        !self.spheres.is_empty() && self.spheres.len() <= FLAT_LIMIT && !self.is_flat()
+    }
+
     /// Whether some material is alpha-tested (alphaMode MASK): its
     /// triangles are tested where traversal meets them, which the flat
     /// loops do not do.

@@ -25,6 +25,10 @@ pub const FLAT_SCENE: &str = "FLAT_SCENE";
 /// The override in `shaders/shared/intersect.wgsl` the engine sets from the
 /// scene: whether traversal starts at the BLAS of the scene's only mesh.
 pub const ONE_MESH: &str = "ONE_MESH";
+/// The override in `shaders/shared/intersect.wgsl` the engine sets from the
+/// scene: whether rays test the spheres in a loop before the BVH, which
+/// then holds no sphere (`SceneData::spheres_apart`).
+pub const SPHERES_APART: &str = "SPHERES_APART";
 /// The overrides in `shaders/shared/flat.wgsl` the engine sets from the
 /// scene: how many spheres and triangles a flat scene has (0 otherwise), so
 /// the primary-ray sweep there tests exactly those.
@@ -185,6 +189,7 @@ impl SceneGpu {
         vec![
             (FLAT_SCENE, flag(flat)),
             (ONE_MESH, flag(self.buffers.is_one_mesh())),
+            (SPHERES_APART, flag(self.buffers.data.spheres_apart())),
             (FLAT_SPHERES, count(self.buffers.data.spheres.len())),
             (FLAT_TRIANGLES, count(self.buffers.data.triangles.len())),
             (FLAT_PAIRS, flag(flat && self.buffers.data.flat_pairs())),
