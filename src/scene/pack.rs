@@ -1,5 +1,6 @@
 //! World → flat GPU arrays, in a deterministic order: entities sorted by
-//! `ObjectId` (objects in file order, then lights). Positions are f64 in
+//! `ObjectId` (objects in file order, then lights; the quads and meshes
+//! that never move before those that do). Positions are f64 in
 //! the world and f32 on the GPU, relative to an origin the session keeps
 //! near the camera (camera-relative rendering; docs/ARCHITECTURE.md).
 
@@ -91,7 +92,6 @@ impl Scene {
         let mut meshes: Vec<MeshGpu> = Vec::with_capacity(instances.len());
         let textured = self.features.textures;
         let mut uvs = Vec::with_capacity(if textured { self.triangle_count() } else { 0 });
-        let mut last_static = false;
         for (moves, id, t, mesh) in instances {
             let Some(data) = self.meshes.get(mesh) else {
                 continue;
@@ -134,15 +134,15 @@ impl Scene {
             if count == 0 {
                 continue;
             }
+            // (Sorted, so a still object's predecessors are still too.)
             match meshes.last_mut() {
-                Some(run) if last_static && !moves => {
+                Some(run) if !moves => {
                     run.bmin = Vec3::from(run.bmin).min(lo).into();
                     run.bmax = Vec3::from(run.bmax).max(hi).into();
                     run.count += count;
                 }
                 _ => meshes.push(MeshGpu { bmin: lo.into(), first, bmax: hi.into(), count }),
             }
-            last_static = !moves;
         }
 
         SceneData {

@@ -5,6 +5,8 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
+use crate::bvh::Aabb;
+
 use super::*;
 
 fn shipped(name: &str) -> Scene {
@@ -118,6 +120,12 @@ fn cornell_camera_and_background() {
     assert!(s.path.ends_with("scenes/cornell.ron"));
 }
 
+/// The box around some packed triangles.
+fn triangles_box(tris: &[TriangleGpu]) -> Aabb {
+    let points: Vec<Vec3> = tris.iter().flat_map(|t| [t.p0, t.p1, t.p2]).map(Vec3::from).collect();
+    Aabb::of_points(&points)
+}
+
 #[test]
 fn cornell_packs_quads_spheres_and_the_light() {
     let s = shipped("cornell.ron");
@@ -226,8 +234,7 @@ fn moving_lights_has_the_knot_on_the_floor() {
     // the knot's triangles after the quads'.
     assert_eq!(d.meshes.len(), 1);
     assert_eq!((d.meshes[0].first, d.meshes[0].count), (0, 10 + 4000));
-    let knot: Vec<Vec3> = d.triangles[10..].iter().flat_map(|t| [t.p0, t.p1, t.p2]).map(Vec3::from).collect();
-    let (lo, hi) = knot.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let Aabb { min: lo, max: hi } = triangles_box(&d.triangles[10..]);
     assert!((lo.y + 1.0).abs() < 2e-3, "knot bottom at {}", lo.y);
     assert!(lo.abs().max_element() < 1.0 && hi.abs().max_element() < 1.0);
     // 3 named, the MTL material of knot.obj, 3 emissive light materials.
@@ -376,8 +383,7 @@ fn meshes_transform_and_take_materials() {
     assert_eq!(t.material, 2);
     // The first object's two triangles span z from 1 and y up to 4 (the
     // four objects, none moving, share one MeshGpu: its box spans them all).
-    let first: Vec<Vec3> = d.triangles[..2].iter().flat_map(|t| [t.p0, t.p1, t.p2]).map(Vec3::from).collect();
-    let (lo, hi) = first.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let Aabb { min: lo, max: hi } = triangles_box(&d.triangles[..2]);
     assert!((lo.z - 1.0).abs() < 1e-5 && (hi.y - 4.0).abs() < 1e-5, "{lo} {hi}");
     assert_eq!((d.meshes.len(), d.meshes[0].count), (1, 6));
     assert_eq!(d.triangles[2].material, 3);
