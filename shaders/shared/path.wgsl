@@ -7,6 +7,7 @@
 // tracer and the probe bakes (shaders/probes_*.wgsl).
 #import flat
 #import lights
+#import light_choice
 #import rng
 #import blue_noise
 #import textures
@@ -40,10 +41,11 @@ var<private> path_primary_dir: vec3f;
 var<private> path_primary_len: f32;
 var<private> path_primary_through: bool;
 
-// Next-event estimation toward one light a bounce, chosen uniformly and
-// weighted by the light count, instead of every light: a bounce then
-// traces one shadow ray however many lights the scene has (more noise
-// with many lights, the same mean). Off: every light, one sample each.
+// Next-event estimation toward one light a bounce instead of every light:
+// a bounce then traces one shadow ray however many lights the scene has
+// (more noise with many lights, the same mean). The light is chosen by
+// what it could bring to the shading point (shared/light_choice.wgsl).
+// Off: every light, one sample each.
 override NEE_ONE: bool = false;
 
 // With FIRST_DIRECT_APART, the direct light of the recorded first hit's
@@ -147,6 +149,12 @@ struct PathState {
     // is weighted against NEE), or a negative value (camera / specular).
     bsdf_pdf: f32,
     prev_p: vec3f,
+    // The shading normal at prev_p, and the sum of the light choice's
+    // weights there (NEE_ONE; below 0: every light was sampled): a light a
+    // bounce ray meets is weighed against the chance that next-event
+    // estimation chose it.
+    prev_n: vec3f,
+    choice_sum: f32,
     // What next-event estimation at prev_p gave as the pdf of the scene's
     // one light (SCENE_ONE_LIGHT): light_pdf there, bit for bit.
     light_pdf: f32,
@@ -162,7 +170,7 @@ struct PathState {
 
 // `spread`: the camera cone's spread angle (pixel_spread).
 fn new_path(ro: vec3f, rd: vec3f, spread: f32) -> PathState {
-    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, 0.0, 0u, false, vec2f(0.0, spread));
+    return PathState(rd, vec3f(1.0), vec3f(0.0), -1.0, ro, vec3f(0.0, 0.0, 1.0), -1.0, 0.0, 0u, false, vec2f(0.0, spread));
 }
 
 // What a bounce leaves to trace: the next ray from `o` along the state's
@@ -245,7 +253,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             if w > 0.0 && (*st).bsdf_pdf > 0.0 {
                 var pdf = env_pdf_at(l, uv, rd);
                 if NEE_ONE {
-                    pdf /= f32(light_count());
+                    pdf *= light_choice_prob(l, (*st).prev_p, (*st).prev_n, (*st).choice_sum);
                 }
                 w = power_heuristic((*st).bsdf_pdf, pdf);
             }
@@ -262,9 +270,10 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         } else if hit.light >= 0 && (*st).bsdf_pdf > 0.0 {
             var pdf = (*st).light_pdf;
             if !SCENE_ONE_LIGHT {
-                pdf = light_pdf(load_light(u32(hit.light)), (*st).prev_p);
+                let l = load_light(u32(hit.light));
+                pdf = light_pdf(l, (*st).prev_p);
                 if NEE_ONE {
-                    pdf /= f32(light_count());
+                    pdf *= light_choice_prob(l, (*st).prev_p, (*st).prev_n, (*st).choice_sum);
                 }
             }
             w = power_heuristic((*st).bsdf_pdf, pdf);
@@ -335,15 +344,19 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         }
     } else {
         // Next-event estimation: every light, one sample each; with
-        // NEE_ONE one light, chosen with probability 1 / count (but every
-        // light at a recorded hit whose direct light is kept apart).
+        // NEE_ONE one light, chosen by what it could bring here
+        // (light_choice.wgsl), but every light at a recorded hit whose
+        // direct light is kept apart.
         var first = 0u;
         var lights = light_count();
         var chosen = 1.0;
+        (*st).choice_sum = -1.0;
         if NEE_ONE && light_count() > 1u && !(SPLIT_DIRECT && path_direct_state == 2u) {
-            first = min(u32(select(rand_f32(rng), path_bn.b.x, blue) * f32(light_count())), light_count() - 1u);
-            lights = 1u;
-            chosen = 1.0 / f32(light_count());
+            let c = choose_light(o, n, select(rand_f32(rng), path_bn.b.x, blue));
+            first = c.pick;
+            lights = select(0u, 1u, c.sum > 0.0);
+            chosen = c.pick_weight / max(c.sum, 1e-30);
+            (*st).choice_sum = c.sum;
         }
         // (Skipped as a whole under FIRST_DIRECT_APART: a loop count that
         // is not a constant would keep the shadow test of lights before the
@@ -410,6 +423,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
     }
     if go_on {
         (*st).prev_p = o;
+        (*st).prev_n = n;
         if depth + 1u >= rr_depth {
             let q = min(max3((*st).throughput), 0.95);
             go_on = !(rand_f32(rng) >= q);

@@ -121,15 +121,30 @@ impl Environment {
         self.radiance.len() + self.width.div_ceil(4) as usize * self.height as usize + self.height.div_ceil(4) as usize
     }
 
-    /// The light record: `position` (width, height, rotation), colour 1.
+    /// The light record: `position` (width, height, rotation), colour the
+    /// mean radiance (what the path's light choice weighs the environment
+    /// by, shaders/shared/light_choice.wgsl; its own light comes from the
+    /// map).
     pub fn light_gpu(&self) -> LightGpu {
         LightGpu {
             position: [self.width as f32, self.height as f32, self.rotation],
             radius: 0.0,
-            color: [1.0; 3],
+            color: self.mean_radiance().to_array(),
             kind: LIGHT_ENVIRONMENT,
             spot: [0.0, 0.0, 0.0, 1.0],
         }
+    }
+
+    /// The radiance averaged over the sphere of directions (each row
+    /// weighed by the solid angle it covers).
+    pub fn mean_radiance(&self) -> Vec3 {
+        let (mut sum, mut weight) = (Vec3::ZERO, 0.0f32);
+        for (y, row) in self.radiance.chunks_exact(self.width as usize).enumerate() {
+            let sin_theta = (PI * (y as f32 + 0.5) / self.height as f32).sin();
+            sum += row.iter().copied().sum::<Vec3>() * sin_theta;
+            weight += sin_theta * self.width as f32;
+        }
+        if weight > 0.0 { sum / weight } else { Vec3::ZERO }
     }
 
     /// The `scene_environment` texels: per texel (r, g, b, pdf) as f32
@@ -335,6 +350,20 @@ mod tests {
             }
         }
         Environment::from_texels(w, h, texels, rotation)
+    }
+
+    #[test]
+    fn the_mean_radiance_weighs_rows_by_their_solid_angle() {
+        let c = Vec3::new(0.2, 0.4, 0.8);
+        assert!((Environment::constant(c, 0.0).mean_radiance() - c).abs().max_element() < 1e-6);
+        // Bright upper half, black lower half: half the sphere, 1.0.
+        let (w, h) = (8u32, 64u32);
+        let texels = (0..h).flat_map(|y| (0..w).map(move |_| if y < h / 2 { Vec3::ONE } else { Vec3::ZERO })).collect();
+        let half = Environment::from_texels(w, h, texels, 0.0).mean_radiance();
+        assert!((half.x - 0.5).abs() < 1e-3, "{half}");
+        // The light record carries it.
+        let env = sky(0.3);
+        assert_eq!(env.light_gpu().color, env.mean_radiance().to_array());
     }
 
     #[test]

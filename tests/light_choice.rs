@@ -1,0 +1,117 @@
+//! Next-event estimation toward one light a bounce, chosen by what each
+//! light could bring (NEE_ONE, shaders/shared/light_choice.wgsl), on the
+//! GPU path: the path tracer with it converges to the path tracer that
+//! samples every light, with lights of every kind and of very different
+//! strengths, a surface that faces away from some of them, and a glossy
+//! coat whose bounce rays meet the sphere lights (weighed by multiple
+//! importance sampling against the choice's probability).
+
+mod common;
+
+use common::*;
+use glint::graph::CompileOptions;
+use glint::scene::Scene;
+
+const SIZE: (u32, u32) = (32, 32);
+const FRAMES: usize = 256;
+const BLOCK: usize = 8;
+
+/// An open corner (floor, back and left walls) under a sky, a sun, a
+/// strong and a weak sphere light, a point light behind the left wall's
+/// plane and a spot light aimed at the floor.
+fn every_kind_of_light() -> Scene {
+    scene_from(
+        r#"Scene(
+    camera: Camera(position: (0.0, 1.0, 3.0), target: (0.0, 0.6, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 55.0),
+    environment: Environment(color: (0.15, 0.2, 0.3)),
+    materials: {
+        "white": Material(albedo: (0.7, 0.7, 0.7)),
+        "red": Material(albedo: (0.6, 0.1, 0.1)),
+        "coat": Material(albedo: (0.2, 0.4, 0.7), specular: 0.5, roughness: 0.3),
+    },
+    objects: [
+        Quad(vertices: [(-2.0, 0.0, -2.0), (-2.0, 0.0, 2.0), (2.0, 0.0, 2.0), (2.0, 0.0, -2.0)], material: "white"),
+        Quad(vertices: [(-2.0, 0.0, -2.0), (2.0, 0.0, -2.0), (2.0, 2.5, -2.0), (-2.0, 2.5, -2.0)], material: "white"),
+        Quad(vertices: [(-2.0, 0.0, -2.0), (-2.0, 2.5, -2.0), (-2.0, 2.5, 2.0), (-2.0, 0.0, 2.0)], material: "red"),
+        Sphere(center: (-0.5, 0.5, -0.5), radius: 0.5, material: "coat"),
+        Sphere(center: (0.8, 0.35, 0.2), radius: 0.35, material: "white"),
+    ],
+    lights: [
+        SphereLight(center: (0.6, 1.8, -1.0), radius: 0.3, radiance: (30.0, 28.0, 25.0)),
+        SphereLight(center: (-1.5, 0.4, 1.0), radius: 0.08, radiance: (5.0, 5.0, 8.0)),
+        PointLight(position: (-2.5, 1.5, 0.0), intensity: (4.0, 4.0, 4.0)),
+        SpotLight(position: (1.2, 2.2, 0.8), direction: (0.0, -1.0, 0.0), intensity: (6.0, 5.0, 4.0), outer_deg: 30.0),
+        DirectionalLight(direction: (0.3, -1.0, -0.4), irradiance: (1.5, 1.4, 1.2)),
+    ],
+)"#,
+    )
+}
+
+/// passes/pathtrace.ron choosing one light a bounce, in a scratch folder.
+fn pathtrace_one_light() -> std::path::PathBuf {
+    let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("read pathtrace.ron");
+    let from = "constants: { FIRST_HIT: 0 }";
+    assert!(text.contains(from), "pathtrace.ron no longer has `{from}`");
+    let path = scratch("light-choice").join("pathtrace.ron");
+    std::fs::write(&path, text.replace(from, "constants: { FIRST_HIT: 0, NEE_ONE: 1 }")).expect("write the graph");
+    path
+}
+
+/// Each frame's sample (`radiance`), as the mean luminance of each
+/// BLOCK x BLOCK block.
+fn block_samples(gpu: &glint::gpu::Gpu, graph: &std::path::Path) -> Vec<Vec<f64>> {
+    let scene = every_kind_of_light();
+    let options = CompileOptions { keep: vec!["radiance".to_string()], ..Default::default() };
+    let compiled = compile(&scene, graph, &options);
+    let mut s = session(gpu, scene, &compiled, SIZE, 1);
+    let (w, h) = (SIZE.0 as usize, SIZE.1 as usize);
+    (0..FRAMES)
+        .map(|_| {
+            s.frame(0.0);
+            let img = s.read_resource("radiance").expect("kept").unwrap_or_else(|e| panic!("{e}"));
+            let mut blocks = vec![0.0; (w / BLOCK) * (h / BLOCK)];
+            for (i, p) in img.data.iter().enumerate() {
+                let (x, y) = (i % w, i / w);
+                blocks[(y / BLOCK) * (w / BLOCK) + x / BLOCK] += luminance(p) / (BLOCK * BLOCK) as f64;
+            }
+            blocks
+        })
+        .collect()
+}
+
+/// Per block, the mean over frames and its standard error.
+fn block_stats(frames: &[Vec<f64>]) -> Vec<(f64, f64)> {
+    let n = frames.len() as f64;
+    (0..frames[0].len())
+        .map(|b| {
+            let mean = frames.iter().map(|f| f[b]).sum::<f64>() / n;
+            let var = frames.iter().map(|f| (f[b] - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            (mean, (var / n).sqrt())
+        })
+        .collect()
+}
+
+#[test]
+fn one_light_chosen_by_what_it_brings_keeps_the_mean_of_every_light() {
+    let Some(gpu) = gpu() else { return };
+    let one = block_stats(&block_samples(gpu, &pathtrace_one_light()));
+    let every = block_stats(&block_samples(gpu, &repo().join("passes/pathtrace.ron")));
+    let (mut worst, mut at) = (0.0f64, 0);
+    for (b, ((m1, e1), (m_all, e_all))) in one.iter().zip(&every).enumerate() {
+        let z = (m1 - m_all).abs() / (e1 * e1 + e_all * e_all).sqrt().max(1e-9);
+        if z > worst {
+            (worst, at) = (z, b);
+        }
+    }
+    let (t1, t_all) = (one.iter().map(|s| s.0).sum::<f64>(), every.iter().map(|s| s.0).sum::<f64>());
+    eprintln!(
+        "{FRAMES} frames: mean luminance {:.5} with one light chosen a bounce, {:.5} with every light; worst block {at} at {worst:.2} standard errors",
+        t1 / one.len() as f64,
+        t_all / every.len() as f64
+    );
+    // Sixteen blocks: 4.5 standard errors is far beyond chance for any of
+    // them; a choice whose weights or MIS probabilities were wrong moves
+    // whole blocks by tens of them.
+    assert!(worst < 4.5, "block {at}: {:?} with one light chosen against {:?} with every light ({worst:.2} standard errors)", one[at], every[at]);
+    assert!((t1 / t_all - 1.0).abs() < 0.01, "the image's mean {t1} against {t_all}");
+}
