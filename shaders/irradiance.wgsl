@@ -10,6 +10,7 @@
 // inactive ones black).
 #import ddgi_volume
 #import lights
+#import light_choice
 #import textures
 
 @group(0) @binding(0) var gbuf_pos: texture_storage_2d<rgba32float, read>;
@@ -139,11 +140,14 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
         let base = m.albedo * (1.0 - m.specular);
         if max3(base) > 0.0 {
             var e = ddgi_irradiance_at(hit.position, n, -dir);
-            // One light, picked uniformly: one shadow ray however many
-            // lights there are (their sum is n times its mean).
+            // One light, chosen by what it could bring here
+            // (shared/light_choice.wgsl): one shadow ray however many
+            // lights there are, divided by the chance of the choice.
             if light_count() > 0u {
-                let i = min(u32(rand_f32(rng) * f32(light_count())), light_count() - 1u);
-                e += f32(light_count()) * light_irradiance(i, load_light(i), hit.position, n, next, 1u, 0u, 0.0, rng);
+                let c = choose_light(hit.position, n, rand_f32(rng));
+                if c.sum > 0.0 {
+                    e += light_irradiance(c.pick, load_light(c.pick), hit.position, n, next, 1u, 0u, 0.0, rng) * (c.sum / c.pick_weight);
+                }
             }
             out += atten * base / PI * e;
         }
