@@ -4,7 +4,8 @@
 //! samples every light, with lights of every kind and of very different
 //! strengths, a surface that faces away from some of them, and a glossy
 //! coat whose bounce rays meet the sphere lights (weighed by multiple
-//! importance sampling against the choice's probability).
+//! importance sampling against the choice's probability); and so does
+//! the uniform choice of a scene with more lights than the choice weighs.
 
 mod common;
 
@@ -59,13 +60,12 @@ fn pathtrace_one_light() -> std::path::PathBuf {
 
 /// Each frame's sample (`radiance`), as the mean luminance of each
 /// BLOCK x BLOCK block.
-fn block_samples(gpu: &glint::gpu::Gpu, graph: &std::path::Path) -> Vec<Vec<f64>> {
-    let scene = every_kind_of_light();
+fn block_samples(gpu: &glint::gpu::Gpu, scene: Scene, graph: &std::path::Path, frames: usize) -> Vec<Vec<f64>> {
     let options = CompileOptions { keep: vec!["radiance".to_string()], ..Default::default() };
     let compiled = compile(&scene, graph, &options);
     let mut s = session(gpu, scene, &compiled, SIZE, 1);
     let (w, h) = (SIZE.0 as usize, SIZE.1 as usize);
-    (0..FRAMES)
+    (0..frames)
         .map(|_| {
             s.frame(0.0);
             let img = s.read_resource("radiance").expect("kept").unwrap_or_else(|e| panic!("{e}"));
@@ -91,18 +91,25 @@ fn block_stats(frames: &[Vec<f64>]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The block whose two means lie the most standard errors apart, and how
+/// many.
+fn worst_block(a: &[(f64, f64)], b: &[(f64, f64)]) -> (f64, usize) {
+    let mut worst = (0.0f64, 0);
+    for (i, ((ma, ea), (mb, eb))) in a.iter().zip(b).enumerate() {
+        let z = (ma - mb).abs() / (ea * ea + eb * eb).sqrt().max(1e-9);
+        if z > worst.0 {
+            worst = (z, i);
+        }
+    }
+    worst
+}
+
 #[test]
 fn one_light_chosen_by_what_it_brings_keeps_the_mean_of_every_light() {
     let Some(gpu) = gpu() else { return };
-    let one = block_stats(&block_samples(gpu, &pathtrace_one_light()));
-    let every = block_stats(&block_samples(gpu, &repo().join("passes/pathtrace.ron")));
-    let (mut worst, mut at) = (0.0f64, 0);
-    for (b, ((m1, e1), (m_all, e_all))) in one.iter().zip(&every).enumerate() {
-        let z = (m1 - m_all).abs() / (e1 * e1 + e_all * e_all).sqrt().max(1e-9);
-        if z > worst {
-            (worst, at) = (z, b);
-        }
-    }
+    let one = block_stats(&block_samples(gpu, every_kind_of_light(), &pathtrace_one_light(), FRAMES));
+    let every = block_stats(&block_samples(gpu, every_kind_of_light(), &repo().join("passes/pathtrace.ron"), FRAMES));
+    let (worst, at) = worst_block(&one, &every);
     let (t1, t_all) = (one.iter().map(|s| s.0).sum::<f64>(), every.iter().map(|s| s.0).sum::<f64>());
     eprintln!(
         "{FRAMES} frames: mean luminance {:.5} with one light chosen a bounce, {:.5} with every light; worst block {at} at {worst:.2} standard errors",
@@ -114,4 +121,41 @@ fn one_light_chosen_by_what_it_brings_keeps_the_mean_of_every_light() {
     // whole blocks by tens of them.
     assert!(worst < 4.5, "block {at}: {:?} with one light chosen against {:?} with every light ({worst:.2} standard errors)", one[at], every[at]);
     assert!((t1 / t_all - 1.0).abs() < 0.01, "the image's mean {t1} against {t_all}");
+}
+
+/// A box lit by 257 point lights of three strengths, 0.6 under its ceiling
+/// (nearer, the rare choice of the nearest light makes a heavy tail): one
+/// more than light_choice.wgsl weighs, so the choice is uniform.
+fn beyond_the_choices_lights() -> Scene {
+    let mut lights = String::new();
+    for i in 0..257 {
+        let (x, z) = (-0.9 + 1.8 * ((i % 17) as f64) / 16.0, -0.9 + 1.8 * ((i / 17) as f64) / 15.0);
+        let k = [0.02, 0.1, 0.5][i % 3];
+        lights += &format!("PointLight(position: ({x:.3}, 0.4, {z:.3}), intensity: ({k}, {k}, {k})),\n");
+    }
+    scene_from(&format!(
+        r#"Scene(
+    camera: Camera(position: (0.0, 0.0, 3.4), target: (0.0, 0.0, 0.0), up: (0.0, 1.0, 0.0), vfov_deg: 40.0),
+    materials: {{ "white": Material(albedo: (0.7, 0.7, 0.7)) }},
+    objects: [
+        Quad(vertices: [(-1.0, -1.0, -1.0), (-1.0, -1.0, 1.0), (1.0, -1.0, 1.0), (1.0, -1.0, -1.0)], material: "white"),
+        Quad(vertices: [(-1.0, 1.0, -1.0), (1.0, 1.0, -1.0), (1.0, 1.0, 1.0), (-1.0, 1.0, 1.0)], material: "white"),
+        Quad(vertices: [(-1.0, -1.0, -1.0), (1.0, -1.0, -1.0), (1.0, 1.0, -1.0), (-1.0, 1.0, -1.0)], material: "white"),
+        Sphere(center: (0.0, -0.6, 0.0), radius: 0.4, material: "white"),
+    ],
+    lights: [
+{lights}    ],
+)"#
+    ))
+}
+
+#[test]
+fn beyond_the_weighed_lights_the_uniform_choice_keeps_the_mean() {
+    let Some(gpu) = gpu() else { return };
+    const MANY_FRAMES: usize = 64;
+    let one = block_stats(&block_samples(gpu, beyond_the_choices_lights(), &pathtrace_one_light(), MANY_FRAMES));
+    let every = block_stats(&block_samples(gpu, beyond_the_choices_lights(), &repo().join("passes/pathtrace.ron"), MANY_FRAMES));
+    let (worst, at) = worst_block(&one, &every);
+    eprintln!("257 lights, {MANY_FRAMES} frames: worst block {at} at {worst:.2} standard errors");
+    assert!(worst < 4.5, "block {at}: {:?} with one light chosen against {:?} with every light ({worst:.2} standard errors)", one[at], every[at]);
 }
