@@ -29,6 +29,14 @@ const LIGHT_CHOICE_MAX_LIGHTS: u32 = 256u;
 // irradiance at normal incidence, the environment's pi times its mean
 // radiance (`color` of its record, src/scene/environment.rs).
 fn light_choice_weight(l: Light, p: vec3f, n: vec3f) -> f32 {
+    // Held finite and not NaN, so that a sum of weights stays finite:
+    // a light of radiance near f32's largest, or a point light at a
+    // distance whose square underflows, gets 1e30.
+    let w = irradiance_bound(l, p, n);
+    return select(0.0, min(w, 1e30), w > 0.0);
+}
+
+fn irradiance_bound(l: Light, p: vec3f, n: vec3f) -> f32 {
     let lum = dot(l.color, vec3f(0.2126, 0.7152, 0.0722));
     if l.kind == LIGHT_ENVIRONMENT {
         return PI * lum;
@@ -56,7 +64,7 @@ fn light_choice_weight(l: Light, p: vec3f, n: vec3f) -> f32 {
     // its cosine is at most cos(centre - a) <= cos_centre cos a + sin a.
     let sin2 = r2 / d2;
     let tilt = clamp(cos_centre * sqrt(1.0 - sin2) + sqrt(sin2), 0.0, 1.0);
-    return PI * lum * sin2 * tilt;
+    return lum * (PI * sin2 * tilt);
 }
 
 // A choice in progress over the lights, made in one pass with one uniform
