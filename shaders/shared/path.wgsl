@@ -174,9 +174,9 @@ fn new_path(ro: vec3f, rd: vec3f, spread: f32) -> PathState {
 }
 
 // What a bounce leaves to trace: the next ray from `o` along the state's
-// rd if `go_on`, and the shadow ray of its last light (shadow_tmax 0:
-// none), whose light counts if nothing blocks it. `ended`: the path ended
-// before any ray (a miss, a light).
+// rd if `go_on`, and the shadow ray of the last light it sampled,
+// `shadow_light` (shadow_tmax 0: none), whose light counts if nothing
+// blocks it. `ended`: the path ended before any ray (a miss, a light).
 struct Bounce {
     ended: bool,
     go_on: bool,
@@ -184,11 +184,12 @@ struct Bounce {
     shadow_dir: vec3f,
     shadow_tmax: f32,
     shadowed_light: vec3f,
+    shadow_light: u32,
 }
 
 // A bounce that traces nothing.
 fn ended_bounce() -> Bounce {
-    return Bounce(true, false, vec3f(0.0), vec3f(0.0, 0.0, 1.0), 0.0, vec3f(0.0));
+    return Bounce(true, false, vec3f(0.0), vec3f(0.0, 0.0, 1.0), 0.0, vec3f(0.0), max(light_count(), 1u) - 1u);
 }
 
 // One bounce of a path at `hit` (the closest hit of the ray in hand).
@@ -385,10 +386,15 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
                     w = power_heuristic(s.pdf * chosen, f_pdf);
                 }
                 let light = (*st).throughput * f * s.weight * cos_n * w / chosen;
-                if i + 1u == light_count() {
+                // The last light sampled (NEE_ONE's one) waits for the
+                // next ray: traced together, the lanes of a SIMD group
+                // trace their shadow rays at once, and a flat scene's
+                // sweep takes both rays in one pass.
+                if j + 1u == lights {
                     out.shadow_dir = s.dir;
                     out.shadow_tmax = shadow_ray_length(s);
                     out.shadowed_light = light;
+                    out.shadow_light = i;
                 } else if light_visible(i, o, s) {
                     (*st).result += light;
                 }
@@ -503,7 +509,7 @@ fn trace_path(flat: ptr<function, FlatScene>, ro_in: vec3f, rd_in: vec3f, spread
         } else if b.ended {
             break;
         }
-        let next = trace_pair(flat, ray_o, ray_d, go_on, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
+        let next = trace_pair(flat, ray_o, ray_d, go_on, b.o, b.shadow_dir, b.shadow_tmax, b.shadow_light);
         if !next.blocked {
             st.result += b.shadowed_light;
         }

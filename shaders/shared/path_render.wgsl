@@ -130,7 +130,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
             ro = frame.camera.origin;
             rd = camera_dir(frame.camera, select(pixel, next_pixel, pixel_done), rand2(&rng));
         }
-        let next = trace_pair(flat, ro, rd, !lane_done, b.o, b.shadow_dir, b.shadow_tmax, max(light_count(), 1u) - 1u);
+        let next = trace_pair(flat, ro, rd, !lane_done, b.o, b.shadow_dir, b.shadow_tmax, b.shadow_light);
         if !next.blocked {
             st.result += b.shadowed_light;
         }
