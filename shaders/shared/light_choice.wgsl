@@ -78,10 +78,6 @@ struct LightChoice {
     u: f32,
 }
 
-fn light_choice_start(u: f32) -> LightChoice {
-    return LightChoice(0u, 0.0, 0.0, u);
-}
-
 // Light i, of weight w, offered to the choice.
 fn light_choice_step(c_in: LightChoice, i: u32, w: f32) -> LightChoice {
     var c = c_in;
@@ -106,7 +102,7 @@ fn light_choice_step(c_in: LightChoice, i: u32, w: f32) -> LightChoice {
 // with the uniform number u. `sum` 0: no light can reach p; `pick` is
 // then light 0, and its weight 0.
 fn choose_light(p: vec3f, n: vec3f, u: f32) -> LightChoice {
-    var c = light_choice_start(u);
+    var c = LightChoice(0u, 0.0, 0.0, u);
     let count = light_count();
     if count > LIGHT_CHOICE_MAX_LIGHTS {
         // Every light of weight 1.

@@ -353,11 +353,17 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
         var chosen = 1.0;
         (*st).choice_sum = -1.0;
         if NEE_ONE && light_count() > 1u && !(SPLIT_DIRECT && path_direct_state == 2u) {
-            let c = choose_light(o, n, select(rand_f32(rng), path_bn.b.x, blue));
-            first = c.pick;
-            lights = select(0u, 1u, c.sum > 0.0);
-            chosen = c.pick_weight / max(c.sum, 1e-30);
-            (*st).choice_sum = c.sum;
+            // (Drawn all the same where another pass takes this hit's
+            // direct light, which needs no choice: the numbers after it
+            // stay where they were.)
+            let u_light = select(rand_f32(rng), path_bn.b.x, blue);
+            if !direct_apart {
+                let c = choose_light(o, n, u_light);
+                first = c.pick;
+                lights = select(0u, 1u, c.sum > 0.0);
+                chosen = c.pick_weight / max(c.sum, 1e-30);
+                (*st).choice_sum = c.sum;
+            }
         }
         // (Skipped as a whole under FIRST_DIRECT_APART: a loop count that
         // is not a constant would keep the shadow test of lights before the
