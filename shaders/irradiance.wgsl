@@ -145,7 +145,7 @@ fn gather(o: vec3f, dir_in: vec3f, rng: ptr<function, Rng>) -> vec3f {
             // lights there are, divided by the chance of the choice.
             if light_count() > 0u {
                 let c = choose_light(hit.position, n, rand_f32(rng));
-                if c.sum > 0.0 {
+                if c.pick_weight > 0.0 {
                     e += light_irradiance(c.pick, load_light(c.pick), hit.position, n, next, 1u, 0u, 0.0, rng) * (c.sum / c.pick_weight);
                 }
             }

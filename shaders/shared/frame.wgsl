@@ -52,6 +52,11 @@ struct Frame {
     probe_spacing: vec3f,
     // Last frame's cone_scale (for a pass that traces its paths again).
     prev_cone_scale: f32,
+    // How many clusters the lights are in (0: few lights; light_choice.wgsl).
+    n_light_clusters: u32,
+    _pad_c0: u32,
+    _pad_c1: u32,
+    _pad_c2: u32,
 }
 
 @group(1) @binding(0) var<uniform> frame: Frame;

@@ -15,12 +15,6 @@
 #import scene
 #import sampling
 
-// Scenes with more lights choose uniformly. The choice weighs every light
-// at every bounce: realtime.ron's frame took 1.12x with 64 lights and
-// 1.52x with 256, which the better choice still pays for there
-// (docs/realtime.md, "Lights chosen by what they bring").
-const LIGHT_CHOICE_MAX_LIGHTS: u32 = 256u;
-
 // The weight of light `l` at point p with shading normal n (facing the
 // ray that arrived): its luminance times the solid angle it fills, times
 // the most any of it can be tilted toward n (for a sphere light, whose
@@ -98,33 +92,138 @@ fn light_choice_step(c_in: LightChoice, i: u32, w: f32) -> LightChoice {
     return c;
 }
 
+// Whether the scene's lights are in clusters (src/scene/light_clusters.rs:
+// more than 64 lights): a choice then weighs the clusters, picks one, and
+// weighs its lights, about 2 sqrt(n) weights where one pass weighs n
+// (realtime.ron's frame took 1.12x with 64 lights against one, and 1.52x
+// with 256, where each light was weighed). Off where the scene has few
+// lights (src/scene/specialise.rs): a CPU driver runs both choices' loops
+// under lane masks otherwise.
+override SCENE_LIGHT_CLUSTERS: bool = true;
+
 // One of the scene's lights for the shading point p (normal n), drawn
-// with the uniform number u. `sum` 0: no light can reach p; `pick` is
-// then light 0, and its weight 0.
+// with the uniform number u: `pick` with probability pick_weight / sum.
+// `sum` is what light_choice_prob needs of the choice (the weights' sum,
+// over the clusters where the lights are in clusters). pick_weight 0: no
+// light can reach p (sum may still be above 0, where the cluster picked
+// can bring nothing though another could); `pick` is then light 0.
 fn choose_light(p: vec3f, n: vec3f, u: f32) -> LightChoice {
-    var c = LightChoice(0u, 0.0, 0.0, u);
-    let count = light_count();
-    if count > LIGHT_CHOICE_MAX_LIGHTS {
-        // Every light of weight 1.
-        return LightChoice(min(u32(u * f32(count)), count - 1u), 1.0, f32(count), 0.0);
+    if SCENE_LIGHT_CLUSTERS && frame.n_light_clusters > 0u {
+        return choose_clustered(p, n, u);
     }
-    for (var i = 0u; i < count; i++) {
+    var c = LightChoice(0u, 0.0, 0.0, u);
+    for (var i = 0u; i < light_count(); i++) {
         c = light_choice_step(c, i, light_choice_weight(load_light(i), p, n));
     }
     return c;
 }
 
-// The probability that choose_light at p (normal n), whose weights summed
-// to `sum`, chose light `l`; `sum` below 0: every light was sampled (1).
-fn light_choice_prob(l: Light, p: vec3f, n: vec3f, sum: f32) -> f32 {
+// The probability that choose_light at p (normal n), whose `sum` this
+// was, chose light `i` (`l` its record); `sum` below 0: every light was
+// sampled (1).
+fn light_choice_prob(i: u32, l: Light, p: vec3f, n: vec3f, sum: f32) -> f32 {
     if sum < 0.0 {
         return 1.0;
     }
     if !(sum > 0.0) {
         return 0.0;
     }
-    if light_count() > LIGHT_CHOICE_MAX_LIGHTS {
-        return 1.0 / sum;
+    if SCENE_LIGHT_CLUSTERS && frame.n_light_clusters > 0u {
+        return clustered_prob(i, l, p, n, sum);
     }
     return light_choice_weight(l, p, n) / sum;
+}
+
+// The clusters' texels follow the lights' three each in scene_lights
+// (src/scene/light_clusters.rs): two per cluster, then the member list
+// and each light's cluster, four indices a texel.
+fn cluster_texel(t: u32) -> vec4u {
+    return scene_texel(scene_lights, 3u * frame.n_lights + t);
+}
+
+// Entry k of a list of indices that starts at cluster texel `base`.
+fn cluster_list(base: u32, k: u32) -> u32 {
+    return cluster_texel(base + (k >> 2u))[k & 3u];
+}
+
+// A cluster: how much its lights could bring to p at most, as the
+// weights do (their power over the squared distance, times the largest
+// cosine a point of its bounding sphere can make with n), and its span
+// of the member list.
+struct ClusterWeight {
+    w: f32,
+    first: u32,
+    count: u32,
+}
+
+fn cluster_weight(k: u32, p: vec3f, n: vec3f) -> ClusterWeight {
+    let a = bitcast<vec4f>(cluster_texel(2u * k));
+    let b = cluster_texel(2u * k + 1u);
+    let power = bitcast<f32>(b.x);
+    // A cluster of one light (a directional light, the environment, a
+    // light far from the rest) takes that light's own weight.
+    if b.z == 1u {
+        let i = cluster_list(2u * frame.n_light_clusters, b.y);
+        return ClusterWeight(light_choice_weight(load_light(i), p, n), b.y, 1u);
+    }
+    let v = a.xyz - p;
+    let d2 = dot(v, v);
+    let r2 = a.w * a.w;
+    var tilt = 1.0;
+    if d2 > r2 {
+        // As a sphere light's: no direction into the sphere makes a
+        // smaller angle with n than (centre's - half-angle).
+        let sin2 = r2 / d2;
+        tilt = clamp(dot(n, v) * inverseSqrt(d2) * sqrt(1.0 - sin2) + sqrt(sin2), 0.0, 1.0);
+    }
+    // Above 0 wherever a light of the cluster is (the bound must leave
+    // none out), and finite.
+    let w = power * tilt / max(max(d2, r2), 1e-30);
+    return ClusterWeight(select(0.0, clamp(w, 1e-30, 1e30), power > 0.0 && tilt > 0.0), b.y, b.z);
+}
+
+// choose_light through the clusters: a cluster by its bound, then one of
+// its lights by its weight. pick_weight / sum is the product of the two
+// chances; sum is the clusters' sum.
+fn choose_clustered(p: vec3f, n: vec3f, u: f32) -> LightChoice {
+    let clusters = frame.n_light_clusters;
+    var c = LightChoice(0u, 0.0, 0.0, u);
+    for (var k = 0u; k < clusters; k++) {
+        c = light_choice_step(c, k, cluster_weight(k, p, n).w);
+    }
+    if !(c.sum > 0.0) {
+        return LightChoice(0u, 0.0, 0.0, c.u);
+    }
+    // The picked cluster's span of the member list.
+    let span = cluster_texel(2u * c.pick + 1u);
+    let first = span.y;
+    let count = span.z;
+    let list = 2u * clusters;
+    var m = LightChoice(0u, 0.0, 0.0, c.u);
+    for (var j = 0u; j < count; j++) {
+        let i = cluster_list(list, first + j);
+        m = light_choice_step(m, i, light_choice_weight(load_light(i), p, n));
+    }
+    // (The cluster's share times the light's within it: each at most 1.)
+    let within = select(0.0, m.pick_weight / m.sum, m.sum > 0.0);
+    return LightChoice(m.pick, c.pick_weight * within, c.sum, m.u);
+}
+
+// light_choice_prob through the clusters: light i's cluster's chance
+// times its chance within the cluster, the cluster's lights weighed in
+// the order choose_clustered weighs them (so the sums agree to the bit).
+fn clustered_prob(i: u32, l: Light, p: vec3f, n: vec3f, sum: f32) -> f32 {
+    let clusters = frame.n_light_clusters;
+    let list = 2u * clusters;
+    let k = cluster_list(list + (frame.n_lights + 3u) / 4u, i);
+    let cw = cluster_weight(k, p, n);
+    var s = 0.0;
+    for (var j = 0u; j < cw.count; j++) {
+        let w = light_choice_weight(load_light(cluster_list(list, cw.first + j)), p, n);
+        if w > 0.0 {
+            s += w;
+        }
+    }
+    let w = light_choice_weight(l, p, n);
+    return select(0.0, (cw.w / sum) * (w / s), s > 0.0 && w > 0.0);
 }

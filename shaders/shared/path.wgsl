@@ -249,12 +249,13 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             // counts nothing first without first_emission, nor where
             // another pass takes the first hit's direct light.
             let l = env_light();
+            let env_index = light_count() - 1u;
             let uv = env_uv(l, rd);
             var w = select(1.0, 0.0, light_hit_apart || (depth == 0u && !first_emission));
             if w > 0.0 && (*st).bsdf_pdf > 0.0 {
                 var pdf = env_pdf_at(l, uv, rd);
                 if NEE_ONE {
-                    pdf *= light_choice_prob(l, (*st).prev_p, (*st).prev_n, (*st).choice_sum);
+                    pdf *= light_choice_prob(env_index, l, (*st).prev_p, (*st).prev_n, (*st).choice_sum);
                 }
                 w = power_heuristic((*st).bsdf_pdf, pdf);
             }
@@ -274,7 +275,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
                 let l = load_light(u32(hit.light));
                 pdf = light_pdf(l, (*st).prev_p);
                 if NEE_ONE {
-                    pdf *= light_choice_prob(l, (*st).prev_p, (*st).prev_n, (*st).choice_sum);
+                    pdf *= light_choice_prob(u32(hit.light), l, (*st).prev_p, (*st).prev_n, (*st).choice_sum);
                 }
             }
             w = power_heuristic((*st).bsdf_pdf, pdf);
@@ -360,7 +361,7 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             if !direct_apart {
                 let c = choose_light(o, n, u_light);
                 first = c.pick;
-                lights = select(0u, 1u, c.sum > 0.0);
+                lights = select(0u, 1u, c.pick_weight > 0.0);
                 chosen = c.pick_weight / max(c.sum, 1e-30);
                 (*st).choice_sum = c.sum;
             }

@@ -158,6 +158,13 @@ fn padded_rows(bytes: &[u8], rows: u32) -> Vec<u8> {
     padded
 }
 
+/// `scene_lights`: the lights, then their clusters (src/scene/light_clusters.rs).
+fn lights_bytes(data: &SceneData) -> Vec<u8> {
+    let mut bytes = bytemuck::cast_slice(&data.lights).to_vec();
+    bytes.extend_from_slice(bytemuck::cast_slice(&data.light_clusters.texels));
+    bytes
+}
+
 /// `scene_geometry`: the triangles (three texels each), then the BVH nodes
 /// (two texels each, from texel 3 * triangle count).
 pub fn geometry_bytes(data: &SceneData) -> Vec<u8> {
@@ -247,7 +254,7 @@ impl SceneBuffers {
             normals: SceneTexture::new(device, queue, "scene_normals", &data.normals),
             meshes: storage(device, "scene_meshes", &data.meshes),
             materials: SceneTexture::new(device, queue, "scene_materials", &data.materials),
-            lights: SceneTexture::new(device, queue, "scene_lights", &data.lights),
+            lights: SceneTexture::from_bytes(device, queue, "scene_lights", &lights_bytes(&data)),
             instances: SceneTexture::new(device, queue, "scene_instances", &data.instances),
             origins: SceneTexture::new(device, queue, "scene_origins", &origin_table),
             flat: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -315,6 +322,9 @@ impl SceneBuffers {
         write(queue, &self.meshes, &old.meshes, &data.meshes, &mut changed);
         write_texture(queue, &self.materials, 0, &old.materials, &data.materials, &mut changed);
         write_texture(queue, &self.lights, 0, &old.lights, &data.lights, &mut changed);
+        // The clusters after the lights (src/scene/light_clusters.rs).
+        let cluster_base = std::mem::size_of_val(data.lights.as_slice()) / TEXEL_BYTES;
+        write_texture(queue, &self.lights, cluster_base, &old.light_clusters.texels, &data.light_clusters.texels, &mut changed);
         write_texture(queue, &self.instances, 0, &old.instances, &data.instances, &mut changed);
         changed |= old.background != data.background;
         let flat = flat_uniform(&data);

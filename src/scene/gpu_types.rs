@@ -298,6 +298,9 @@ pub struct SceneData {
     pub materials: Vec<MaterialGpu>,
     /// Lights, in the order of the scene's `lights`.
     pub lights: Vec<LightGpu>,
+    /// The lights' clusters, which follow them in `scene_lights` (none
+    /// with few lights: `light_clusters::clustered`).
+    pub light_clusters: super::light_clusters::LightClusters,
     /// Radiance of rays that leave the scene, linear RGB (without an
     /// environment light).
     pub background: [f32; 3],

@@ -16,6 +16,7 @@ pub mod environment;
 pub mod features;
 pub mod flat_uniform;
 pub mod gpu_types;
+pub mod light_clusters;
 mod gltf_file;
 mod gltf_scene;
 mod load;

@@ -7,6 +7,7 @@
 use glam::{DVec3, Vec3};
 
 use super::features::SceneFeatures;
+use super::light_clusters::light_clusters;
 use super::gpu_types::{
     LightGpu, MaterialTexturesGpu, MeshGpu, SceneData, SphereGpu, TriangleGpu, TriangleNormalsGpu, TriangleUvGpu, FLAT_LIMIT,
     LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPHERE, pack_color, pack_tangent,
@@ -145,7 +146,10 @@ impl Scene {
             }
         }
 
+        // The environment light last (shared/environment.wgsl finds it there).
+        let lights: Vec<LightGpu> = lights.into_iter().map(|l| l.2).chain(self.environment.as_ref().map(|e| e.light_gpu())).collect();
         SceneData {
+            light_clusters: light_clusters(&lights),
             spheres: spheres.into_iter().map(|s| s.1).collect(),
             triangles,
             normals,
@@ -155,8 +159,7 @@ impl Scene {
             // Every material's slots, textured scene or not: a generic
             // pipeline (SCENE_TEXTURES on) reads them and finds none.
             material_textures: self.material_textures_gpu(),
-            // The environment light last (shared/environment.wgsl finds it there).
-            lights: lights.into_iter().map(|l| l.2).chain(self.environment.as_ref().map(|e| e.light_gpu())).collect(),
+            lights,
             background: self.background.into(),
             environment: self.environment_texels.clone(),
             ..Default::default()

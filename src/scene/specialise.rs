@@ -78,6 +78,10 @@ pub const SCENE_VERTEX_COLORS: &str = "SCENE_VERTEX_COLORS";
 /// MikkTSpace's; shared/textures.wgsl, bent_normal).
 pub const SCENE_VERTEX_TANGENTS: &str = "SCENE_VERTEX_TANGENTS";
 
+/// Whether the lights are in clusters (shared/light_choice.wgsl): a
+/// scene of at most `light_clusters::CLUSTERED_ABOVE` lights weighs each.
+pub const SCENE_LIGHT_CLUSTERS: &str = "SCENE_LIGHT_CLUSTERS";
+
 /// Whether the scene has an environment light (shared/environment.wgsl):
 /// without one a miss sees `background` and nothing samples it.
 pub const SCENE_ENVIRONMENT: &str = "SCENE_ENVIRONMENT";
@@ -87,7 +91,7 @@ pub const SCENE_ENVIRONMENT: &str = "SCENE_ENVIRONMENT";
 pub const SCENE_SINGLE_SIDED: &str = "SCENE_SINGLE_SIDED";
 
 /// Every constant this module may set, with its generic default.
-pub const GENERIC: [(&str, bool); 22] = [
+pub const GENERIC: [(&str, bool); 23] = [
     (SCENE_SPHERES, true),
     (SCENE_MESHES, true),
     (SCENE_POINT_LIGHTS, true),
@@ -95,6 +99,7 @@ pub const GENERIC: [(&str, bool); 22] = [
     (SCENE_SPECULAR, true),
     (SCENE_COATS, true),
     (SCENE_ONE_LIGHT, false),
+    (SCENE_LIGHT_CLUSTERS, true),
     (SCENE_INSIDE_LIGHTS, true),
     (SCENE_TEXTURES, true),
     (SCENE_SPOT_LIGHTS, true),
@@ -137,6 +142,9 @@ pub fn specialisations(f: &SceneFeatures) -> Vec<Specialisation> {
     }
     if f.lights == 1 {
         out.push(Specialisation { constant: SCENE_ONE_LIGHT, value: true, reason: "one light: no light loop" });
+    }
+    if !super::light_clusters::clustered(f.lights as usize) {
+        out.push(Specialisation { constant: SCENE_LIGHT_CLUSTERS, value: false, reason: "few lights: each weighed at every choice, no clusters" });
     }
     if !f.enclosing_lights {
         out.push(Specialisation {
@@ -197,24 +205,26 @@ mod tests {
     fn a_scene_with_everything_is_generic() {
         assert!(specialisations(&SceneFeatures::all()).is_empty());
         let mut f = SceneFeatures::all();
-        f.lights = 2;
-        assert!(specialisations(&f).is_empty());
+        f.lights = 65;
+        assert!(specialisations(&f).is_empty(), "65 lights: in clusters");
+        f.lights = 64;
+        assert_eq!(names(&f), [(SCENE_LIGHT_CLUSTERS, false)]);
     }
 
     #[test]
     fn what_a_scene_lacks_is_compiled_out() {
         // The Cornell box with a point light and no mirror.
         let f = SceneFeatures { meshes: true, spheres: true, point_lights: true, lights: 1, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_COATS, false), (SCENE_ONE_LIGHT, true), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_AREA_LIGHTS, false), (SCENE_SPECULAR, false), (SCENE_COATS, false), (SCENE_ONE_LIGHT, true), (SCENE_LIGHT_CLUSTERS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // A sphere light is a sphere rays can hit.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_COATS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_COATS, false), (SCENE_LIGHT_CLUSTERS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // One that may hold a surface or the camera keeps sampling from inside.
         let f = SceneFeatures { meshes: true, area_lights: true, specular: true, lights: 3, enclosing_lights: true, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_COATS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_POINT_LIGHTS, false), (SCENE_COATS, false), (SCENE_LIGHT_CLUSTERS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
         // Only spheres and a point light: no triangles.
         let f = SceneFeatures { spheres: true, point_lights: true, specular: true, lights: 2, ..Default::default() };
-        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_COATS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
+        assert_eq!(names(&f), [(SCENE_MESHES, false), (SCENE_AREA_LIGHTS, false), (SCENE_COATS, false), (SCENE_LIGHT_CLUSTERS, false), (SCENE_INSIDE_LIGHTS, false), (SCENE_TEXTURES, false), (SCENE_SPOT_LIGHTS, false), (SCENE_ALPHA_MASK, false), (SCENE_DIRECTIONAL_LIGHTS, false), (SCENE_METALLIC_ROUGHNESS, false), (SCENE_ENVIRONMENT, false), (SCENE_SINGLE_SIDED, false)]);
     }
 
     #[test]

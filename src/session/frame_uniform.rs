@@ -135,6 +135,11 @@ pub struct FrameGpu {
     /// Last frame's `cone_scale` (a pass that traces last frame's paths
     /// again reads textures as they were read then).
     pub prev_cone_scale: f32,
+    /// How many clusters the lights are in (`scene::light_clusters`; 0:
+    /// few lights, each weighed at every choice).
+    pub n_light_clusters: u32,
+    /// (The uniform's size a multiple of 16 bytes.)
+    pub _pad: [u32; 3],
 }
 
 /// The factor camera-ray cones are narrowed by once `accumulated` samples

@@ -279,6 +279,8 @@ impl Session {
             probe_n: grid.map_or(0, |g| g.counts.x),
             probe_spacing: grid.map_or([0.0; 3], |g| g.spacing.to_array()),
             prev_cone_scale,
+            n_light_clusters: data.light_clusters.count,
+            _pad: [0; 3],
         };
         self.gpu.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
         // The kind of frame picks the passes' per-frame pipelines
