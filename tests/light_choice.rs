@@ -60,7 +60,7 @@ fn pathtrace_one_light(name: &str) -> std::path::PathBuf {
     let text = std::fs::read_to_string(repo().join("passes/pathtrace.ron")).expect("read pathtrace.ron");
     let from = "constants: { FIRST_HIT: 0 }";
     assert!(text.contains(from), "pathtrace.ron no longer has `{from}`");
-    let path = scratch(&format!("light-choice-{name}")).join("pathtrace.ron");
+    let path = scratch(&format!("light-choice-{}", name.replace(' ', "-"))).join("pathtrace.ron");
     std::fs::write(&path, text.replace(from, "constants: { FIRST_HIT: 0, NEE_ONE: 1 }")).expect("write the graph");
     path
 }
@@ -160,12 +160,18 @@ fn clustered_lights() -> Scene {
 #[test]
 fn lights_chosen_through_clusters_keep_the_mean() {
     let Some(gpu) = gpu() else { return };
-    const MANY_FRAMES: usize = 64;
-    let one = block_stats(&block_samples(gpu, clustered_lights(), &pathtrace_one_light("clusters"), MANY_FRAMES));
-    let every = block_stats(&block_samples(gpu, clustered_lights(), &repo().join("passes/pathtrace.ron"), MANY_FRAMES));
+    assert_one_light_keeps_the_mean(gpu, clustered_lights, "257 lights", 64);
+}
+
+/// pathtrace.ron choosing one light a bounce against every light, each
+/// for `frames` frames of `scene`: every block's mean within 4.5
+/// standard errors.
+fn assert_one_light_keeps_the_mean(gpu: &glint::gpu::Gpu, scene: fn() -> Scene, what: &str, frames: usize) {
+    let one = block_stats(&block_samples(gpu, scene(), &pathtrace_one_light(what), frames));
+    let every = block_stats(&block_samples(gpu, scene(), &repo().join("passes/pathtrace.ron"), frames));
     let (worst, at) = worst_block(&one, &every);
-    eprintln!("257 lights, {MANY_FRAMES} frames: worst block {at} at {worst:.2} standard errors");
-    assert!(worst < 4.5, "block {at}: {:?} with one light chosen against {:?} with every light ({worst:.2} standard errors)", one[at], every[at]);
+    eprintln!("{what}, {frames} frames: worst block {at} at {worst:.2} standard errors");
+    assert!(worst < 4.5, "{what}, block {at}: {:?} with one light chosen against {:?} with every light ({worst:.2} standard errors)", one[at], every[at]);
 }
 
 /// every_kind_of_light's scene with 80 more small lights, sphere, point
@@ -193,12 +199,7 @@ fn every_kind_of_light_in_clusters_keeps_the_mean() {
     // (With the MIS probability's share within the cluster left out, a
     // deliberate bug, its worst block lay 5.2 standard errors off at 128
     // frames; hence 256.)
-    const MANY_FRAMES: usize = 256;
-    let one = block_stats(&block_samples(gpu, every_kind_in_clusters(), &pathtrace_one_light("kinds-clusters"), MANY_FRAMES));
-    let every = block_stats(&block_samples(gpu, every_kind_in_clusters(), &repo().join("passes/pathtrace.ron"), MANY_FRAMES));
-    let (worst, at) = worst_block(&one, &every);
-    eprintln!("85 lights of every kind, {MANY_FRAMES} frames: worst block {at} at {worst:.2} standard errors");
-    assert!(worst < 4.5, "block {at}: {:?} with one light chosen against {:?} with every light ({worst:.2} standard errors)", one[at], every[at]);
+    assert_one_light_keeps_the_mean(gpu, every_kind_in_clusters, "85 lights of every kind", 256);
 }
 
 /// A clustered scene with lights at f32's limits: a sphere light of

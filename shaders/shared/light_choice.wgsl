@@ -146,10 +146,10 @@ fn cluster_list(base: u32, k: u32) -> u32 {
     return cluster_texel(base + (k >> 2u))[k & 3u];
 }
 
-// A cluster: how much its lights could bring to p at most, as the
-// weights do (their power over the squared distance, times the largest
-// cosine a point of its bounding sphere can make with n), and its span
-// of the member list.
+// A cluster: an estimate of what its lights could bring to p (their
+// power over the squared distance to its centre, times the largest cosine
+// a point of its bounding sphere can make with n), and its span of the
+// member list.
 struct ClusterWeight {
     w: f32,
     first: u32,

@@ -5,7 +5,7 @@
 //! lights (sphere and point lights) split into spatial clusters of about
 //! sqrt(n) lights each, by halving the set along its longest axis at the
 //! median; a directional light and the environment each make a cluster of
-//! their own. A choice then weighs every cluster by a bound of what its
+//! their own. A choice then weighs every cluster by an estimate of what its
 //! lights could bring to the shading point (their power over the squared
 //! distance, times the largest cosine any point of the cluster's bounding
 //! sphere can make with the normal), picks one, and then weighs that
