@@ -19,7 +19,7 @@ use super::{BLAS_MAX_DEPTH, TLAS_MAX_DEPTH};
 use super::ray::{hit_sphere, hit_triangle, next_up, triangle_t_error, Geometry, Hit, Ray, SPHERE_BIT, STACK};
 use super::scene::{SceneBvh, INSTANCE_MESH, INSTANCE_SPHERE, TLAS_LEAF};
 use super::{Aabb, BvhNode};
-use crate::scene::{MeshGpu, SceneData, SphereGpu, TriangleGpu, FLAT_LIMIT};
+use crate::scene::{MeshGpu, SceneData, SphereGpu, TriangleGpu, SPHERES_APART_LIMIT};
 
 const INF: f32 = f32::INFINITY;
 
@@ -376,18 +376,18 @@ fn bvh_matches_brute_force_on_random_soups() {
     cmp.finish();
 }
 
-/// Up to FLAT_LIMIT spheres are tested apart, before the BVH, whose TLAS
-/// then holds the meshes alone (SPHERES_APART); more are TLAS instances.
-/// Both ways find what testing everything finds.
+/// Up to SPHERES_APART_LIMIT spheres are tested apart, before the BVH,
+/// whose TLAS then holds the meshes alone (SPHERES_APART); more are TLAS
+/// instances. Both ways find what testing everything finds.
 #[test]
-fn spheres_are_tested_apart_up_to_the_flat_limit_and_as_instances_beyond() {
+fn spheres_are_tested_apart_up_to_their_limit_and_as_instances_beyond() {
     let mut rng = Rng::new(9);
     let apart = random_soup(&mut rng, &[40, 500], 16);
     assert!(apart.spheres_apart());
     assert!(apart.instances.iter().all(|i| i.kind == INSTANCE_MESH), "{:?}", apart.instances);
-    let many = random_soup(&mut rng, &[40, 500], FLAT_LIMIT + 8);
+    let many = random_soup(&mut rng, &[40, 500], SPHERES_APART_LIMIT + 8);
     assert!(!many.spheres_apart());
-    assert_eq!(many.instances.iter().filter(|i| i.kind == INSTANCE_SPHERE).count(), FLAT_LIMIT + 8);
+    assert_eq!(many.instances.iter().filter(|i| i.kind == INSTANCE_SPHERE).count(), SPHERES_APART_LIMIT + 8);
     for (name, data) in [("spheres apart", &apart), ("spheres as instances", &many)] {
         let mut cmp = Compare::new(name, data);
         for i in 0..3000 {

@@ -321,6 +321,14 @@ pub struct SceneData {
 /// identical either way (ties go to the lower id).
 pub const FLAT_LIMIT: usize = 32;
 
+/// Scenes that are not flat with at most this many spheres test them in a
+/// loop before walking the BVH (`SceneData::spheres_apart`); more are
+/// TLAS instances. The loop over a Cornell box's 34 spheres (32 of them
+/// small lights) made realtime.ron's frame 0.55x what the instances
+/// cost, over 64 spheres 0.78x, over 130 1.0x (docs/acceleration.md,
+/// "Spheres apart").
+pub const SPHERES_APART_LIMIT: usize = 64;
+
 impl SceneData {
     /// Whether rays test every primitive instead of walking the BVH
     /// (`FLAT_LIMIT`).
@@ -337,12 +345,13 @@ impl SceneData {
     /// Whether rays test the spheres in a loop of their own before walking
     /// the BVH, which then holds the meshes alone (the `SPHERES_APART`
     /// override of shaders/shared/intersect.wgsl): a scene that is not flat
-    /// with at most FLAT_LIMIT spheres (light spheres included). On a CPU
-    /// driver a TLAS instance costs a ray that crosses it far more than a
-    /// sphere test: thesis-env3's 15 small light spheres more than doubled
-    /// its path pass as instances (docs/acceleration.md, "Spheres apart").
+    /// with at most SPHERES_APART_LIMIT spheres (light spheres included).
+    /// On a CPU driver a TLAS instance costs a ray that crosses it far more
+    /// than a sphere test: thesis-env3's 15 small light spheres more than
+    /// doubled its path pass as instances (docs/acceleration.md, "Spheres
+    /// apart").
     pub fn spheres_apart(&self) -> bool {
-        !self.spheres.is_empty() && self.spheres.len() <= FLAT_LIMIT && !self.is_flat()
+        !self.spheres.is_empty() && self.spheres.len() <= SPHERES_APART_LIMIT && !self.is_flat()
     }
 
     /// Whether some material is alpha-tested (alphaMode MASK): its
