@@ -129,7 +129,7 @@ fn light_choice_prob(i: u32, l: Light, p: vec3f, n: vec3f, sum: f32) -> f32 {
         return 0.0;
     }
     if SCENE_LIGHT_CLUSTERS && frame.n_light_clusters > 0u {
-        return clustered_prob(i, l, p, n, sum);
+        return clustered_prob(i, p, n, sum);
     }
     return light_choice_weight(l, p, n) / sum;
 }
@@ -160,8 +160,8 @@ fn cluster_weight(k: u32, p: vec3f, n: vec3f) -> ClusterWeight {
     let a = bitcast<vec4f>(cluster_texel(2u * k));
     let b = cluster_texel(2u * k + 1u);
     let power = bitcast<f32>(b.x);
-    // A cluster of one light (a directional light, the environment, a
-    // light far from the rest) takes that light's own weight.
+    // A cluster of one light (a directional light, the environment)
+    // takes that light's own weight.
     if b.z == 1u {
         let i = cluster_list(2u * frame.n_light_clusters, b.y);
         return ClusterWeight(light_choice_weight(load_light(i), p, n), b.y, 1u);
@@ -212,18 +212,23 @@ fn choose_clustered(p: vec3f, n: vec3f, u: f32) -> LightChoice {
 // light_choice_prob through the clusters: light i's cluster's chance
 // times its chance within the cluster, the cluster's lights weighed in
 // the order choose_clustered weighs them (so the sums agree to the bit).
-fn clustered_prob(i: u32, l: Light, p: vec3f, n: vec3f, sum: f32) -> f32 {
+fn clustered_prob(i: u32, p: vec3f, n: vec3f, sum: f32) -> f32 {
     let clusters = frame.n_light_clusters;
     let list = 2u * clusters;
     let k = cluster_list(list + (frame.n_lights + 3u) / 4u, i);
     let cw = cluster_weight(k, p, n);
+    // (Light i is one of them: its own weight is taken on the way.)
     var s = 0.0;
+    var w = 0.0;
     for (var j = 0u; j < cw.count; j++) {
-        let w = light_choice_weight(load_light(cluster_list(list, cw.first + j)), p, n);
-        if w > 0.0 {
-            s += w;
+        let m = cluster_list(list, cw.first + j);
+        let wm = light_choice_weight(load_light(m), p, n);
+        if wm > 0.0 {
+            s += wm;
+        }
+        if m == i {
+            w = wm;
         }
     }
-    let w = light_choice_weight(l, p, n);
     return select(0.0, (cw.w / sum) * (w / s), s > 0.0 && w > 0.0);
 }
