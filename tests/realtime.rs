@@ -2,7 +2,8 @@
 //! a still image tends to the path tracer's mean, the variance it filters
 //! by falls with history, a light that jumps drops history where its
 //! light changed, and only there, without leaving a ghost, and what a
-//! mirror shows is not blended with the surface seen beside it.
+//! mirror shows is not blended with the surface seen beside it, and
+//! thinning the filter's still frames changes no image it makes.
 
 mod common;
 
@@ -39,10 +40,19 @@ fn still(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, graph: &std::path::P
 fn still_at(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, graph: &std::path::Path, frames: u32, time: f32, size: (u32, u32)) -> ImageF32 {
     let compiled = compile(&scene, graph, &CompileOptions::default());
     let mut s = session(gpu, scene, &compiled, size, 1);
-    for _ in 0..frames {
+    run_frames(&mut s, frames, time);
+    s.read_output().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `frames` frames at `time`, the last shown in full (realtime.ron's
+/// filter thins its still frames after 8: `ThinWhenStill`).
+fn run_frames(s: &mut Session, frames: u32, time: f32) {
+    for f in 0..frames {
+        if f + 1 == frames {
+            s.show_next_in_full();
+        }
         s.frame(time);
     }
-    s.read_output().unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
@@ -82,6 +92,10 @@ fn the_filters_variance_falls_with_history() {
     let mut s = session(gpu, scene, &compiled, SIZE, 1);
     let mut means = Vec::new();
     for frame in 1..=64u32 {
+        if frame == 16 || frame == 64 {
+            // (The filter's passes thin their still frames: these two run.)
+            s.show_next_in_full();
+        }
         s.frame(0.0);
         if frame == 16 || frame == 64 {
             let v = read(&s, "filt_0");
@@ -211,9 +225,7 @@ fn the_direct_lights_filter_lowers_its_first_frames_error_in_penumbrae() {
     let run = |filtered: bool, frames: u32| {
         let mut s = session(gpu, load_scene(name), &compiled, SIZE, 1);
         direct_only(&mut s, filtered);
-        for _ in 0..frames {
-            s.frame(0.0);
-        }
+        run_frames(&mut s, frames, 0.0);
         s.read_output().unwrap_or_else(|e| panic!("{e}"))
     };
     let reference = run(false, 256);
@@ -293,9 +305,7 @@ fn taps_in_pairs_filter_smooth_gradients() {
         let scene = load_scene("cornell.ron");
         let compiled = compile(&scene, graph, &CompileOptions::default());
         let mut s = session(gpu, scene, &compiled, size, 1);
-        for _ in 0..frames {
-            s.frame(0.0);
-        }
+        run_frames(&mut s, frames, 0.0);
         s.read_output().unwrap_or_else(|e| panic!("{e}"))
     };
     let reference = render(&repo().join("passes/pathtrace.ron"), 512);
@@ -345,9 +355,7 @@ fn a_mirrors_outline_keeps_its_contrast_in_the_first_frame() {
         let scene = scene_from(MIRROR_ON_FLOOR);
         let compiled = compile(&scene, graph, &keep(kept));
         let mut s = session(gpu, scene, &compiled, size, seed);
-        for _ in 0..frames {
-            s.frame(0.0);
-        }
+        run_frames(&mut s, frames, 0.0);
         let out = s.read_output().unwrap_or_else(|e| panic!("{e}"));
         (out, kept.first().map(|r| read(&s, r)))
     };
@@ -402,4 +410,44 @@ fn a_mirrors_outline_keeps_its_contrast_in_the_first_frame() {
     );
     assert!(sides.iter().all(|s| s.len() > 10), "{} and {} pixels where the mirror meets the floor", sides[0].len(), sides[1].len());
     assert!((first[0] / truth - 1.0).abs() < 0.15, "contrast {:.3} in the first frame against the path tracer's {truth:.3}", first[0]);
+}
+
+/// The filter's passes thin their still frames (`ThinWhenStill(after: 8,
+/// every: 4)` in passes/realtime.ron): in the frames they skip the image
+/// stays what their last run made, and a frame they run in (or one shown
+/// in full) is the image the graph makes without thinning, bit for bit.
+#[test]
+fn thinned_still_frames_keep_the_last_image_and_change_no_filtered_one() {
+    let Some(gpu) = gpu() else { return };
+    const THIN: &str = "run: ThinWhenStill(after: 8, every: 4), ";
+    let text = std::fs::read_to_string(realtime()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(text.matches(THIN).count(), 6, "realtime.ron's filter passes no longer thin as this test expects");
+    let unthinned = scratch("thin-frames").join("realtime.ron");
+    std::fs::write(&unthinned, text.replace(THIN, "")).unwrap_or_else(|e| panic!("{e}"));
+    let size = (32, 32);
+    let out = |s: &Session| s.read_output().unwrap_or_else(|e| panic!("{e}"));
+    let start = |graph: &std::path::Path| {
+        let scene = load_scene("cornell.ron");
+        let compiled = compile(&scene, graph, &CompileOptions::default());
+        session(gpu, scene, &compiled, size, 1)
+    };
+    let (mut thin, mut full) = (start(&realtime()), start(&unthinned));
+    let mut shown = Vec::new();
+    for frame in 1..=11 {
+        thin.frame(0.0);
+        full.frame(0.0);
+        shown.push((out(&thin), out(&full)));
+        let (t, f) = &shown[frame - 1];
+        // Still frames 0..=8 run the filter (8: one in 4), 9 and 10 not.
+        if frame <= 9 {
+            assert!(t.data == f.data, "frame {frame}: the thinned graph's image differs from the unthinned one's");
+        } else {
+            assert!(t.data == shown[8].0.data, "frame {frame}: the image changed in a frame the filter skips");
+            assert!(t.data != f.data, "frame {frame}: the unthinned graph's image should have moved on");
+        }
+    }
+    thin.show_next_in_full();
+    thin.frame(0.0);
+    full.frame(0.0);
+    assert!(out(&thin).data == out(&full).data, "a frame shown in full differs from the unthinned graph's");
 }

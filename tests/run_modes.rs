@@ -130,3 +130,90 @@ fn probe_tiles_size_an_atlas_and_graph_check_says_when_passes_run() {
     let out = g.schedule.textures.iter().find(|t| t.label.starts_with("row")).expect("row texture");
     assert_eq!(out.size.resolve((8, 8)), (48, 8));
 }
+
+/// `ThinWhenStill(after, every)`: every frame until the image has stood
+/// still `after` frames, then one in `every`; every frame while the
+/// camera moves; and in a frame shown in full.
+#[test]
+fn thin_when_still_runs_one_still_frame_in_every() {
+    let Some(gpu) = gpu() else { return };
+    let g = compile_variant("thin", "run: Once,", "run: ThinWhenStill(after: 2, every: 3),").unwrap_or_else(|e| panic!("{e}"));
+    let scene = load_scene("cornell.ron");
+    let mut s = session(gpu, scene, &g, (4, 4), 1);
+    let mut seen = Vec::new();
+    for _ in 0..8 {
+        s.frame(0.0);
+        seen.push(counters(&s)[1][0]);
+    }
+    // Still frames 0..7: it runs in 0, 1 (before `after`), 3 and 6.
+    assert_eq!(seen, [1.0, 2.0, 2.0, 3.0, 3.0, 3.0, 4.0, 4.0]);
+    s.show_next_in_full();
+    s.frame(0.0);
+    assert_eq!(counters(&s)[1][0], 5.0, "a frame shown in full");
+    s.frame(0.0);
+    assert_eq!(counters(&s)[1][0], 6.0, "still frame 9");
+    s.frame(0.0);
+    assert_eq!(counters(&s)[1][0], 6.0, "still frame 10 thins again");
+    // A camera that moves every frame restarts the count every frame.
+    for k in 0..3 {
+        s.scene.scene.camera.position.x += 0.01 * (k + 1) as f64;
+        s.frame(0.0);
+    }
+    assert_eq!(counters(&s)[1][0], 9.0, "a moving camera");
+}
+
+/// runs.ron with each (from, to) replaced, compiled.
+fn compile_edited(name: &str, edits: &[(&str, &str)]) -> Result<glint::graph::CompiledGraph, String> {
+    let mut text = std::fs::read_to_string(runs_graph()).expect("runs.ron");
+    for (from, to) in edits {
+        assert!(text.contains(from), "{from}");
+        text = text.replace(from, to);
+    }
+    let path = scratch("run-variants").join(format!("{name}.ron"));
+    std::fs::write(&path, text).expect("write");
+    let scene = load_scene("cornell.ron");
+    glint::graph::load_and_compile(&path, &repo().join("shaders"), &scene.features, &CompileOptions::default()).map_err(|e| e.to_string())
+}
+
+#[test]
+fn thinned_passes_write_only_what_passes_of_their_run_read() {
+    const THIN: &str = "run: ThinWhenStill(after: 2, every: 3), dispatch: Fixed(4, 1),";
+    const ROW: &str = "size: Fixed(4, 1))";
+    let e = compile_edited("thin-every-0", &[("run: Once,", "run: ThinWhenStill(after: 2, every: 0),")]).unwrap_err();
+    assert!(e.contains("every: 0") && e.contains(".ron:"), "{e}");
+    // The output is kept through the frames the pass skips: persistent.
+    let e = compile_edited("thin-output", &[("dispatch: Fixed(4, 1),", THIN)]).unwrap_err();
+    assert!(e.contains("pass `gather`") && e.contains("`row`, which is not persistent") && e.contains("other than the output"), "{e}");
+    compile_edited("thin-output-kept", &[("dispatch: Fixed(4, 1),", THIN), (ROW, "size: Fixed(4, 1), persistent: true)")]).unwrap_or_else(|e| panic!("{e}"));
+    // A transient it writes may be read by passes of its own run only:
+    // `first` gathers the counters into `t`, which `second` copies out.
+    let graph = |second_run: &str, out: &str| {
+        format!(
+            r#"FrameGraph(
+    name: "thin",
+    resources: {{
+        "every": Texture(format: Rgba32Float, size: Fixed(1, 1), persistent: true),
+        "t": Texture(format: Rgba32Float, size: Fixed(4, 1)),
+        "row": Texture(format: Rgba32Float, size: Fixed(4, 1){out}),
+    }},
+    passes: [
+        Pass(name: "every", shader: "test_runs.wgsl", entry: "count", bind: {{ "counter": "every" }}),
+        Pass(name: "first", shader: "test_runs.wgsl", entry: "gather", run: ThinWhenStill(after: 2, every: 3), dispatch: Fixed(4, 1),
+             bind: {{ "a": "every", "b": "every", "c": "every", "d": "every", "row": "t" }}),
+        Pass(name: "second", shader: "test_runs.wgsl", entry: "gather", {second_run} dispatch: Fixed(4, 1),
+             bind: {{ "a": "t", "b": "every", "c": "every", "d": "every" }}),
+    ],
+    output: "row",
+)"#
+        )
+    };
+    let compile_text = |name: &str, text: String| {
+        let path = scratch("run-variants").join(format!("{name}.ron"));
+        std::fs::write(&path, text).expect("write");
+        let scene = load_scene("cornell.ron");
+        glint::graph::load_and_compile(&path, &repo().join("shaders"), &scene.features, &CompileOptions::default()).map_err(|e| e.to_string())
+    };
+    let e = compile_text("thin-transient", graph("", "")).unwrap_err();
+    assert!(e.contains("pass `second`") && e.contains("reads `t`, which pass `first` writes") && e.contains(".ron:"), "{e}");
+    compile_text("thin-transient-ok", graph("run: ThinWhenStill(after: 2, every: 3),", ", persistent: true")).unwrap_or_else(|e| panic!("{e}"));
+}

@@ -174,6 +174,10 @@ pub(super) fn render_frames(args: &RenderArgs, session: &mut Session, frames: &m
     );
     let start = Instant::now();
     for i in 0..args.frames {
+        if i + 1 == args.frames {
+            // The image written is filtered in full, whatever thins.
+            session.show_next_in_full();
+        }
         frames.step(session);
         if !quiet && start.elapsed().as_secs_f32() > 1.0 {
             bar.set_position(u64::from(i + 1));

@@ -160,6 +160,19 @@ pub enum RunMode {
     /// In the first frame and in every frame where a pass that writes one
     /// of its inputs ran before it (a bake's second step after its first).
     OnInputChange,
+    /// Every frame until the image has stood still (camera and scene as
+    /// last frame) for `after` frames, then every `every`-th frame (and
+    /// in a frame the engine shows in full, such as `glint render`'s
+    /// last). For a denoiser's filter: its history goes on gathering
+    /// samples every frame, while the image it shows changes less and
+    /// less, so the frames between cost only the samples. The transients
+    /// such a pass writes may be read only by passes of the same `run`.
+    ThinWhenStill {
+        /// Still frames filtered every frame.
+        after: u32,
+        /// Then one frame in this many.
+        every: u32,
+    },
     /// `per_frame` dispatches a frame, each one iteration (the `run`
     /// uniform counts them), until `until` iterations since the scene last
     /// changed (forever without `until`); a scene change starts the count
@@ -182,6 +195,7 @@ impl RunMode {
             RunMode::OnSceneChange => "once, then whenever the scene changes".into(),
             RunMode::OnSceneChangeWithHistory => "whenever the scene changes, from the second frame of a history on".into(),
             RunMode::OnInputChange => "once, then whenever a pass writing its input ran".into(),
+            RunMode::ThinWhenStill { after, every } => format!("every frame until the image has stood still {after} frames, then one frame in {every}"),
             RunMode::Progressive { per_frame, until: Some(u) } => {
                 format!("{per_frame} iterations a frame until {u} since the scene last changed")
             }

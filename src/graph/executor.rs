@@ -148,6 +148,10 @@ pub struct Executor {
     /// run `OnSceneChangeWithHistory` need one). The session sets it
     /// before each frame.
     pub has_history: bool,
+    /// Frames the image has stood still before this one, for passes that
+    /// thin their frames (`RunMode::ThinWhenStill`); None: a frame shown
+    /// in full, where they all run. The session sets it before each frame.
+    pub still_frames: Option<u32>,
 }
 
 /// What the executor binds for an engine resource.
@@ -355,7 +359,7 @@ impl Executor {
         // layout is the same, so kept history textures stay in step.
         let parity = previous.filter(|p| p.schedule.flips_parity == schedule.flips_parity).map_or(0, |p| p.parity);
         let runs = vec![RunState::default(); passes.len()];
-        Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, frame_kind: FrameKind::GENERIC, has_history: false })
+        Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, frame_kind: FrameKind::GENERIC, has_history: false, still_frames: None })
     }
 
     /// Writes pass `pass`'s packed params (after `PassParams::set`).
@@ -436,7 +440,7 @@ impl Executor {
         let mut plan = Vec::with_capacity(self.passes.len());
         for (i, sp) in self.schedule.passes.iter().enumerate() {
             let inputs_ran = sp.inputs_from.iter().any(|&p| p < i && plan.get(p).is_some_and(|&(n, _): &(u32, u64)| n > 0));
-            let (these, next) = self.runs[i].plan(sp.run, epoch, inputs_ran, self.has_history);
+            let (these, next) = self.runs[i].plan(sp.run, epoch, inputs_ran, self.has_history, self.still_frames);
             self.runs[i] = next;
             plan.push((these.len() as u32, records.len() as u64));
             records.extend(these);
@@ -454,7 +458,7 @@ impl Executor {
     /// next frame with the scene at `epoch`.
     pub fn updates_persistent(&self, epoch: u32) -> bool {
         self.schedule.passes.iter().zip(&self.runs).any(|(sp, st)| {
-            sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !st.plan(sp.run, epoch, false, self.has_history).0.is_empty()
+            sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !matches!(sp.run, RunMode::ThinWhenStill { .. }) && !st.plan(sp.run, epoch, false, self.has_history, self.still_frames).0.is_empty()
         })
     }
 

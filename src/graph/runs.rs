@@ -39,8 +39,10 @@ impl RunState {
     /// This frame's dispatches of a pass running `mode` with the scene at
     /// `epoch`, and the state after them; `inputs_ran`: a pass writing one
     /// of its inputs ran earlier this frame; `has_history`: the frame has a
-    /// last frame to compare with.
-    pub fn plan(self, mode: RunMode, epoch: u32, inputs_ran: bool, has_history: bool) -> (Vec<RunGpu>, RunState) {
+    /// last frame to compare with; `still`: frames the image has stood
+    /// still before this one (None: a frame shown in full, where every
+    /// pass that thins its frames runs).
+    pub fn plan(self, mode: RunMode, epoch: u32, inputs_ran: bool, has_history: bool, still: Option<u32>) -> (Vec<RunGpu>, RunState) {
         let changed = self.last_epoch != Some(epoch);
         let since = if changed { 0 } else { self.since_change };
         let count = match mode {
@@ -54,6 +56,7 @@ impl RunState {
             }
             RunMode::OnSceneChangeWithHistory => u32::from(changed),
             RunMode::OnInputChange => u32::from(self.last_epoch.is_none() || inputs_ran),
+            RunMode::ThinWhenStill { after, every } => u32::from(still.is_none_or(|s| s < after || s % every.max(1) == 0)),
             RunMode::Progressive { per_frame, until: None } => per_frame,
             RunMode::Progressive { per_frame, until: Some(u) } => per_frame.min(u.saturating_sub(since)),
         };
@@ -77,7 +80,7 @@ mod tests {
         epochs
             .iter()
             .map(|&e| {
-                let (records, next) = st.plan(mode, e, false, true);
+                let (records, next) = st.plan(mode, e, false, true, Some(0));
                 st = next;
                 records.iter().map(|r| (r.iteration, r.since_change)).collect()
             })
@@ -108,13 +111,13 @@ mod tests {
         // (epoch, has_history): a start, still frames, a change, a reset
         // with a change, then a still frame after it.
         for (epoch, history) in [(0, false), (0, true), (1, true), (1, true), (2, false), (2, true)] {
-            let (records, next) = st.plan(RunMode::OnSceneChangeWithHistory, epoch, false, history);
+            let (records, next) = st.plan(RunMode::OnSceneChangeWithHistory, epoch, false, history, Some(0));
             st = next;
             counts.push(records.len());
         }
         assert_eq!(counts, vec![0, 0, 1, 0, 0, 0]);
         // Kept across a rebuild with history: the first frame runs.
-        let (records, _) = RunState::default().plan(RunMode::OnSceneChangeWithHistory, 5, false, true);
+        let (records, _) = RunState::default().plan(RunMode::OnSceneChangeWithHistory, 5, false, true, Some(0));
         assert_eq!(records.len(), 1);
     }
 
@@ -123,7 +126,7 @@ mod tests {
         let mut st = RunState::default();
         let mut counts = Vec::new();
         for inputs_ran in [false, false, true, false, true] {
-            let (records, next) = st.plan(RunMode::OnInputChange, 0, inputs_ran, true);
+            let (records, next) = st.plan(RunMode::OnInputChange, 0, inputs_ran, true, Some(0));
             st = next;
             counts.push(records.len());
         }
@@ -144,7 +147,19 @@ mod tests {
 
     #[test]
     fn records_number_the_dispatches_of_a_frame() {
-        let (records, _) = RunState::default().plan(RunMode::Progressive { per_frame: 4, until: None }, 0, false, true);
+        let (records, _) = RunState::default().plan(RunMode::Progressive { per_frame: 4, until: None }, 0, false, true, Some(0));
         assert_eq!(records.iter().map(|r| (r.index, r.count)).collect::<Vec<_>>(), vec![(0, 4), (1, 4), (2, 4), (3, 4)]);
+    }
+
+    #[test]
+    fn thin_when_still_runs_every_frame_then_one_in_every() {
+        let mode = RunMode::ThinWhenStill { after: 4, every: 3 };
+        let counts: Vec<usize> = (0..12).map(|s| RunState::default().plan(mode, 0, false, true, Some(s)).0.len()).collect();
+        assert_eq!(counts, vec![1, 1, 1, 1, 0, 0, 1, 0, 0, 1, 0, 0]);
+        // A frame shown in full runs it whatever the count.
+        assert_eq!(RunState::default().plan(mode, 0, false, true, None).0.len(), 1);
+        // `every: 0` is refused by the compiler; here it counts as 1.
+        let zero = RunMode::ThinWhenStill { after: 0, every: 0 };
+        assert_eq!(RunState::default().plan(zero, 0, false, true, Some(7)).0.len(), 1);
     }
 }

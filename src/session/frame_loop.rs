@@ -166,6 +166,11 @@ impl FrameLoop {
             session.scene.scene.camera = path.at(&self.base_camera, self.time);
         }
         let time = self.time;
+        if self.sample_target.is_some_and(|n| session.accumulated().saturating_add(1) >= n) {
+            // The last frame before the loop stops at its target: shown
+            // in full, as it stays on screen.
+            session.show_next_in_full();
+        }
         let timings = session.frame_with(time, hook);
         let wall_ms = now.elapsed().as_secs_f64() * 1e3;
         self.stats.frame_ms.push(wall_ms);

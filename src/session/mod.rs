@@ -125,6 +125,9 @@ struct FrameState {
     history_frames: u32,
     /// Last frame's `FrameGpu::cone_scale`.
     cone_scale: f32,
+    /// The next frame is shown in full: every pass that thins its frames
+    /// (`RunMode::ThinWhenStill`) runs in it (`Session::show_next_in_full`).
+    full_next: bool,
     /// Last frame's camera (world, f64: re-expressed relative to the
     /// current origin each frame, so a rebase keeps reprojection right) and
     /// scene epoch.
@@ -293,6 +296,7 @@ impl Session {
             no_history: specialise && st.history_frames == 0,
         };
         self.executor.has_history = st.history_frames > 0;
+        self.executor.still_frames = if std::mem::take(&mut st.full_next) { None } else { Some(st.accum_count) };
         let timings = self.executor.run_frame_with(&self.gpu, self.timing, epoch, hook);
         st.last = Some((world_camera, epoch));
         st.cone_scale = cone_scale;
@@ -321,6 +325,14 @@ impl Session {
     pub fn restart(&mut self) {
         self.state = FrameState::default();
         self.executor.restart_runs();
+    }
+
+    /// Runs every pass in the next frame, those that thin their frames
+    /// while the image stands still included: for a frame that is kept
+    /// (`glint render`'s last, a viewer's last before it stops at its
+    /// sample target).
+    pub fn show_next_in_full(&mut self) {
+        self.state.full_next = true;
     }
 
     /// Frames accumulated since the last reset.

@@ -72,10 +72,14 @@ pub fn session(gpu: &Gpu, scene: Scene, compiled: &graph::CompiledGraph, size: (
     Session::with_graph(gpu, scene, compiled.clone(), repo().join("shaders"), options).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Renders `frames` frames of an already compiled graph; its output.
+/// Renders `frames` frames of an already compiled graph; its output (the
+/// last frame shown in full, as `glint render` writes it).
 pub fn render_compiled(gpu: &Gpu, scene: Scene, compiled: &graph::CompiledGraph, size: (u32, u32), frames: u32) -> ImageF32 {
     let mut s = session(gpu, scene, compiled, size, 1);
-    for _ in 0..frames {
+    for f in 0..frames {
+        if f + 1 == frames {
+            s.show_next_in_full();
+        }
         s.frame(0.0);
     }
     s.read_output().unwrap_or_else(|e| panic!("{e}"))

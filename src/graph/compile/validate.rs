@@ -72,6 +72,7 @@ pub(super) fn validate<'a>(
         let constants = check_constants(pass, shader)?;
         plans.push(PassPlan { desc: pass, entry, listed, bindings, params, constants });
     }
+    check_thinned_readers(desc, &plans)?;
     Ok(plans)
 }
 
@@ -337,19 +338,72 @@ fn check_run(desc: &FrameGraph, pass: &PassDesc, bindings: &[(&BindingInfo, Boun
             return Err(err(ErrorKind::BadRun, name, "`Progressive(until: 0)` never runs; give at least 1 iteration, or leave `until` out to run forever"));
         }
     }
+    if let RunMode::ThinWhenStill { every: 0, .. } = pass.run {
+        return Err(err(ErrorKind::BadRun, name, "`ThinWhenStill(every: 0)`: give at least 1 (every frame)"));
+    }
     if pass.run == RunMode::EveryFrame {
         return Ok(());
     }
+    let thinned = matches!(pass.run, RunMode::ThinWhenStill { .. });
     for (b, bound) in bindings {
         if let Bound::Write { resource, .. } = bound {
-            let persistent = matches!(desc.resources.get(resource), Some(ResourceDesc::Texture(TextureDesc { persistent: true, .. })));
-            if !persistent {
+            let texture = match desc.resources.get(resource) {
+                Some(ResourceDesc::Texture(t)) => Some(t),
+                _ => None,
+            };
+            let persistent = texture.is_some_and(|t| t.persistent);
+            // A thinned pass's transient is read only by passes that run
+            // when it does (check_thinned_readers); the output and a
+            // history are kept across frames, so they must persist.
+            let transient = texture.is_some_and(|t| !t.history) && *resource != desc.output;
+            let allowed = persistent || (thinned && transient);
+            if !allowed {
                 return Err(err_at(
                     ErrorKind::BadRun,
                     &pass.name,
                     b,
-                    format!("runs {}, but writes `{resource}`, which is not persistent: a pass that skips frames may write only `persistent: true` resources", pass.run.describe()),
+                    format!(
+                        "runs {}, but writes `{resource}`, which is not persistent: a pass that skips frames may write only `persistent: true` resources{}",
+                        pass.run.describe(),
+                        if thinned { " (or, running `ThinWhenStill`, transients other than the output)" } else { "" }
+                    ),
                 ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A transient that a pass running `ThinWhenStill` writes is read only by
+/// passes with the same `run`: in a frame it skips, nothing that runs
+/// reads what it did not write.
+fn check_thinned_readers(desc: &FrameGraph, plans: &[PassPlan]) -> Result<(), CompileError> {
+    for writer in plans.iter().filter(|p| matches!(p.desc.run, RunMode::ThinWhenStill { .. })) {
+        for (_, bound) in &writer.bindings {
+            let Bound::Write { resource, .. } = bound else { continue };
+            if !matches!(desc.resources.get(resource), Some(ResourceDesc::Texture(TextureDesc { persistent: false, history: false, .. }))) {
+                continue;
+            }
+            for reader in plans {
+                let read = reader.bindings.iter().find(|(_, b)| match b {
+                    Bound::Read(r) => r == resource,
+                    Bound::Write { resource: r, in_place } => r == resource && *in_place,
+                    _ => false,
+                });
+                if let Some((b, _)) = read.filter(|_| reader.desc.run != writer.desc.run) {
+                    return Err(err_at(
+                        ErrorKind::BadRun,
+                        &reader.desc.name,
+                        b,
+                        format!(
+                            "reads `{resource}`, which pass `{}` writes running {}, but runs {}: in the frames `{}` skips, `{resource}` would hold nothing of this frame; give both the same `run`, or make `{resource}` persistent",
+                            writer.desc.name,
+                            writer.desc.run.describe(),
+                            reader.desc.run.describe(),
+                            writer.desc.name
+                        ),
+                    ));
+                }
             }
         }
     }
