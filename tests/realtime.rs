@@ -451,3 +451,36 @@ fn thinned_still_frames_keep_the_last_image_and_change_no_filtered_one() {
     full.frame(0.0);
     assert!(out(&thin).data == out(&full).data, "a frame shown in full differs from the unthinned graph's");
 }
+
+/// A wide à-trous step stops without a jump in the image: over the second
+/// half of its `until_frames` it fades into its input, so the frame where
+/// it stops changes the image about as much as the frames before it (a
+/// sudden stop changed it by the step's whole share: the noise it had
+/// taken out came back at once).
+#[test]
+fn a_wide_step_fades_out_before_it_stops() {
+    let Some(gpu) = gpu() else { return };
+    // realtime.ron's step 4 stops at 128 still frames (the stop that cost
+    // most when it was sudden, docs/realtime.md).
+    const STOP: u32 = 128;
+    let text = std::fs::read_to_string(realtime()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(text.contains("until_frames: 128 },\n             constants: { STEP: 4 }"), "realtime.ron's step 4 no longer stops at {STOP} frames");
+    let scene = load_scene("cornell.ron");
+    let compiled = compile(&scene, &realtime(), &CompileOptions::default());
+    let mut s = session(gpu, scene, &compiled, (64, 64), 1);
+    let mut shown = Vec::new();
+    for still in 0..=STOP {
+        if still + 3 >= STOP {
+            s.show_next_in_full();
+        }
+        s.frame(0.0);
+        if still + 3 >= STOP {
+            shown.push(s.read_output().unwrap_or_else(|e| panic!("{e}")));
+        }
+    }
+    let change = |a: &ImageF32, b: &ImageF32| a.data.iter().zip(&b.data).map(|(p, q)| (luminance(p) - luminance(q)).abs()).sum::<f64>() / a.data.len() as f64;
+    let before = change(&shown[0], &shown[1]).max(change(&shown[1], &shown[2]));
+    let at_stop = change(&shown[2], &shown[3]);
+    eprintln!("mean luminance change a frame: {before:.3e} before the stop, {at_stop:.3e} where it stops");
+    assert!(at_stop < 1.5 * before, "the image jumped where step 4 stopped: {at_stop:.3e} against {before:.3e} a frame before");
+}

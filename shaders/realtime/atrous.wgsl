@@ -28,7 +28,9 @@
 // (0: never), an iteration passes its input through, and the pass costs
 // a load and a store (realtime.ron stops its wide steps so: by then
 // their taps reach surfaces whose light differs by more than the means'
-// noise, and remove little; docs/realtime.md, "In the limit").
+// noise, and remove little; docs/realtime.md, "In the limit"). Over the
+// second half of those frames it fades into its input (docs/realtime.md,
+// "Still frames thinned, and the wide steps faded out").
 #import realtime_common
 
 override STEP: i32 = 1;
@@ -97,7 +99,27 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
         sums = add_taps(sums, c, vec2i(1, -1), diagonal, 0.0625, tex, dtex, with_direct);
         sums = add_taps(sums, c, vec2i(-1, 0), axis, 0.125, tex, dtex, with_direct);
     }
-    return Filtered(normalised(sums.light), normalised(sums.direct));
+    let filtered = Filtered(normalised(sums.light), normalised(sums.direct));
+    // Over the second half of `until_frames` the step fades into its input,
+    // so that it stops without a jump in noise (a uniform test: the frames
+    // before keep the filtered value exactly).
+    let fade = still_share();
+    if fade < 1.0 {
+        return Filtered(mix(own, filtered.light, fade), mix(own_d, filtered.direct, fade));
+    }
+    return filtered;
+}
+
+// A step's share of its output: 1 until half of `until_frames` still
+// frames (0: always), then falling linearly to 0 at `until_frames`. The
+// variance is mixed alike: an upper bound on the variance of the mix
+// (the deviations' mix bounds the mix's deviation; the square is convex).
+fn still_share() -> f32 {
+    if params.until_frames == 0u {
+        return 1.0;
+    }
+    let u = f32(params.until_frames);
+    return clamp(2.0 * (u - f32(frame.accum_count)) / u, 0.0, 1.0);
 }
 
 // The pixel a step filters: where it is, its surface and its two signals.
