@@ -356,6 +356,10 @@ impl Viewer {
             let (mirror, device) = (&mut self.mirror, &self.gpu.device);
             let mut record = |enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, format| mirror.record(device, enc, texture, format);
             let hook = FrameHook { resource: self.panel.resource.as_deref(), record: &mut record };
+            if self.options.frames.is_some_and(|n| self.presents.count() + 1 >= u64::from(n)) {
+                // A scripted run's last frame is its screenshot: in full.
+                self.session.show_next_in_full();
+            }
             self.frames.step_with(&mut self.session, Some(hook));
             self.mirror.submitted();
             if self.mirror.busy() {
