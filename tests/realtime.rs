@@ -450,6 +450,17 @@ fn thinned_still_frames_keep_the_last_image_and_change_no_filtered_one() {
     thin.frame(0.0);
     full.frame(0.0);
     assert!(out(&thin).data == out(&full).data, "a frame shown in full differs from the unthinned graph's");
+    // A frame loop that stops at 11 samples (the viewer's --stop-at) shows
+    // its last frame in full: the unthinned graph's 11th.
+    use glint::session::frame_loop::{Clock, FrameLoop};
+    let mut stopping = start(&realtime());
+    let mut frames = FrameLoop::new(0.0, Clock::Fixed { dt: 0.0 }, stopping.scene.scene.camera);
+    frames.sample_target = Some(11);
+    for _ in 0..14 {
+        frames.step(&mut stopping);
+    }
+    assert_eq!(stopping.accumulated(), 11);
+    assert!(out(&stopping).data == shown[10].1.data, "the frame loop's last frame before its sample target was not shown in full");
 }
 
 /// A wide à-trous step stops without a jump in the image: over the second
