@@ -494,6 +494,9 @@ impl Session {
         if !unchanged {
             self.restart();
         }
+        // The new executor's first frame runs every pass: a pass that thins
+        // still frames would otherwise leave an output it never wrote.
+        self.state.full_next = true;
         Ok(report)
     }
 
