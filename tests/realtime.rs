@@ -44,16 +44,6 @@ fn still_at(gpu: &glint::gpu::Gpu, scene: glint::scene::Scene, graph: &std::path
     s.read_output().unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// `frames` frames at `time`, the last shown in full (realtime.ron's
-/// filter thins its still frames after 8: `ThinWhenStill`).
-fn run_frames(s: &mut Session, frames: u32, time: f32) {
-    for f in 0..frames {
-        if f + 1 == frames {
-            s.show_next_in_full();
-        }
-        s.frame(time);
-    }
-}
 
 #[test]
 fn a_still_image_tends_to_the_path_tracers_mean() {

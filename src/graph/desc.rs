@@ -187,6 +187,17 @@ pub enum RunMode {
 }
 
 impl RunMode {
+    /// Whether a pass of this mode fills persistent resources on a
+    /// schedule of its own (a bake: not every frame, not only after its
+    /// inputs, not a filter thinning still frames), which a session counts
+    /// as work still to do (`Executor::updates_persistent`).
+    pub fn bakes(self) -> bool {
+        match self {
+            RunMode::Once | RunMode::OnSceneChange | RunMode::OnSceneChangeWithHistory | RunMode::Progressive { .. } => true,
+            RunMode::EveryFrame | RunMode::OnInputChange | RunMode::ThinWhenStill { .. } => false,
+        }
+    }
+
     /// As `graph check` prints it.
     pub fn describe(self) -> String {
         match self {

@@ -458,7 +458,7 @@ impl Executor {
     /// next frame with the scene at `epoch`.
     pub fn updates_persistent(&self, epoch: u32) -> bool {
         self.schedule.passes.iter().zip(&self.runs).any(|(sp, st)| {
-            sp.run != RunMode::EveryFrame && sp.run != RunMode::OnInputChange && !matches!(sp.run, RunMode::ThinWhenStill { .. }) && !st.plan(sp.run, epoch, false, self.has_history, self.still_frames).0.is_empty()
+            sp.run.bakes() && !st.plan(sp.run, epoch, false, self.has_history, self.still_frames).0.is_empty()
         })
     }
 

@@ -353,13 +353,13 @@ impl Viewer {
         let reloading = self.reloader.as_ref().and_then(Reloader::running);
         let compiling = reloading.is_some();
         if !self.mirror.busy() && !compiling {
-            let (mirror, device) = (&mut self.mirror, &self.gpu.device);
-            let mut record = |enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, format| mirror.record(device, enc, texture, format);
-            let hook = FrameHook { resource: self.panel.resource.as_deref(), record: &mut record };
-            if self.options.frames.is_some_and(|n| self.presents.count() + 1 >= u64::from(n)) {
+            if self.last_scripted_frame() {
                 // A scripted run's last frame is its screenshot: in full.
                 self.session.show_next_in_full();
             }
+            let (mirror, device) = (&mut self.mirror, &self.gpu.device);
+            let mut record = |enc: &mut wgpu::CommandEncoder, texture: &wgpu::Texture, format| mirror.record(device, enc, texture, format);
+            let hook = FrameHook { resource: self.panel.resource.as_deref(), record: &mut record };
             self.frames.step_with(&mut self.session, Some(hook));
             self.mirror.submitted();
             if self.mirror.busy() {
@@ -544,7 +544,12 @@ impl Viewer {
     }
 
     fn wants_screenshot(&self) -> bool {
-        self.screenshot_requested || self.options.frames.is_some_and(|n| self.presents.count() + 1 >= u64::from(n))
+        self.screenshot_requested || self.last_scripted_frame()
+    }
+
+    /// Whether the next present is a scripted run's last (`--frames N`).
+    fn last_scripted_frame(&self) -> bool {
+        self.options.frames.is_some_and(|n| self.presents.count() + 1 >= u64::from(n))
     }
 
     fn save_screenshot(&mut self, capture: Option<screenshot::Capture>) {

@@ -76,13 +76,19 @@ pub fn session(gpu: &Gpu, scene: Scene, compiled: &graph::CompiledGraph, size: (
 /// last frame shown in full, as `glint render` writes it).
 pub fn render_compiled(gpu: &Gpu, scene: Scene, compiled: &graph::CompiledGraph, size: (u32, u32), frames: u32) -> ImageF32 {
     let mut s = session(gpu, scene, compiled, size, 1);
+    run_frames(&mut s, frames, 0.0);
+    s.read_output().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `frames` frames at scene time `time`, the last shown in full (a graph
+/// whose filter thins its still frames, `ThinWhenStill`, runs it there).
+pub fn run_frames(s: &mut Session, frames: u32, time: f32) {
     for f in 0..frames {
         if f + 1 == frames {
             s.show_next_in_full();
         }
-        s.frame(0.0);
+        s.frame(time);
     }
-    s.read_output().unwrap_or_else(|e| panic!("{e}"))
 }
 
 pub fn load_scene(name: &str) -> Scene {
