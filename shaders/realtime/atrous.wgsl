@@ -37,6 +37,13 @@ override STEP: i32 = 1;
 // Whether a tap may pass the pair's colour test too (below; 0 takes each
 // tap's own test alone: for measuring what the pairs bring).
 override PAIRS: bool = true;
+// SPLIT_DIRECT steps: the still frames after which the direct light is no
+// longer filtered (0: never), fading out over the second half of them as
+// `until_frames` does. Its samples at the first hit see every light, so
+// its mean is soon certain, and the filter's taps then only bend it where
+// a penumbra meets the umbra or the lit floor (docs/realtime.md, "The
+// direct light's filter fades out").
+override DIRECT_UNTIL_FRAMES: u32 = 0u;
 
 struct Params {
     sigma_l: f32, // ui: 0.5..64 log "luminance sigma"
@@ -103,9 +110,10 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
     // Over the second half of `until_frames` the step fades into its input,
     // so that it stops without a jump in noise (a uniform test: the frames
     // before keep the filtered value exactly).
-    let fade = still_share();
-    if fade < 1.0 {
-        return Filtered(mix(own, filtered.light, fade), mix(own_d, filtered.direct, fade));
+    let fade = still_share(params.until_frames);
+    let fade_d = fade * still_share(DIRECT_UNTIL_FRAMES);
+    if fade < 1.0 || fade_d < 1.0 {
+        return Filtered(mix(own, filtered.light, fade), mix(own_d, filtered.direct, fade_d));
     }
     return filtered;
 }
@@ -114,11 +122,11 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
 // frames (0: always), then falling linearly to 0 at `until_frames`. The
 // variance is mixed alike: an upper bound on the variance of the mix
 // (the deviations' mix bounds the mix's deviation; the square is convex).
-fn still_share() -> f32 {
-    if params.until_frames == 0u {
+fn still_share(until_frames: u32) -> f32 {
+    if until_frames == 0u {
         return 1.0;
     }
-    let u = f32(params.until_frames);
+    let u = f32(until_frames);
     return clamp(2.0 * (u - f32(frame.accum_count)) / u, 0.0, 1.0);
 }
 
