@@ -92,9 +92,13 @@ var<private> path_lobe_traced: bool;
 // its result before them (path_bounce takes the one, path_render.wgsl the
 // other, once the last light's shadow ray is traced; `path_direct_state`
 // says where the path is: 0 before the recorded hit, 1 at it, 2 sampling
-// its lights, 3 done). The real-time denoiser leaves it unfiltered
-// (shaders/realtime/temporal.wgsl); what a light its bounce ray meets
-// brings stays with the rest.
+// its lights, 3 its bounce ray in flight, 4 done). What a light its
+// bounce ray meets brings, as multiple importance sampling weighs it
+// against those samples, is its direct light too: kept with the rest, it
+// was a narrow peak above a light near a wall (a Cornell box's ceiling)
+// that the wide filter steps flattened for dozens of frames. The
+// real-time denoiser filters the direct light apart, by its own variance
+// (shaders/realtime/atrous.wgsl).
 //
 // The recorded hit then samples every light, one sample each, where the
 // scene has at most SPLIT_DIRECT_LIGHTS (one light chosen at random would
@@ -196,6 +200,12 @@ fn ended_bounce() -> Bounce {
 fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emission: bool, rng: ptr<function, Rng>) -> Bounce {
     var out = ended_bounce();
     let depth = (*st).depth;
+    // SPLIT_DIRECT: this hit ends the recorded hit's bounce ray (a coat's
+    // specular lobe counts as direct light whole: path_direct_total).
+    let direct_bounce = SPLIT_DIRECT && path_direct_state == 3u && !path_lobe_traced;
+    if direct_bounce {
+        path_direct_state = 4u;
+    }
     let rd = (*st).rd;
     // Loaded before the miss test (a miss has material 0): the G-buffer's
     // specular share comes from the same two texels.
@@ -262,6 +272,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             seen = env_radiance_at(l, uv) * w;
         }
         (*st).result += (*st).throughput * seen;
+        if direct_bounce && SCENE_ENVIRONMENT {
+            path_direct += (*st).throughput * seen;
+        }
         return out;
     }
     let p = hit.position;
@@ -281,6 +294,9 @@ fn path_bounce(st: ptr<function, PathState>, hit: Hit, rr_depth: u32, first_emis
             w = power_heuristic((*st).bsdf_pdf, pdf);
         }
         (*st).result += (*st).throughput * m.emission * w;
+        if direct_bounce {
+            path_direct += (*st).throughput * m.emission * w;
+        }
     }
     // SPLIT_DIRECT: the result before the recorded hit's light samples.
     if SPLIT_DIRECT && path_direct_state == 1u {
@@ -477,7 +493,7 @@ fn start_lobe(st: ptr<function, PathState>) {
 // The first hit's direct light (SPLIT_DIRECT) of a path that ended with
 // `result`: its light samples' share and its coat's specular lobe's.
 fn path_direct_total(result: vec3f) -> vec3f {
-    if path_direct_state == 3u && path_lobe_traced {
+    if path_direct_state >= 3u && path_lobe_traced {
         return path_direct + (result - path_lobe_from);
     }
     return path_direct;
