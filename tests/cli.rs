@@ -229,28 +229,34 @@ fn trade_over_seeds_averages_what_each_seed_measures() {
     }
     let dir = scratch("trade-seeds");
     let out = dir.to_string_lossy().into_owned();
-    let args = ["trade", "scenes/cornell.ron", "--graphs", "passes/pathtrace.ron", "--size", "32x32", "--frames", "2", "--reference-frames", "32", "--seeds", "3", "--out", &out];
+    // Two graphs: they take turns seed by seed, in reverse order every
+    // other seed, and each keeps its own seeds' figures.
+    let args = ["trade", "scenes/cornell.ron", "--graphs", "passes/pathtrace.ron,passes/direct.ron", "--size", "32x32", "--frames", "2", "--reference-frames", "32", "--seeds", "3", "--out", &out];
     let (code, stdout, err) = glint(&args);
     assert_eq!(code, 0, "{err}");
     let csv = std::fs::read_to_string(dir.join("trade.csv")).unwrap();
     let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows.len(), 2, "one row a frame, not one a seed: {csv}");
+    assert_eq!(rows.len(), 4, "one row a frame and graph, not one a seed: {csv}");
     let reference = dir.join("reference.exr").to_string_lossy().into_owned();
-    let mut flips = Vec::new();
-    for seed in ["1", "2", "3"] {
-        let image = dir.join(format!("seed{seed}.exr")).to_string_lossy().into_owned();
-        let (code, _, err) = glint(&["render", "scenes/cornell.ron", "--graph", "passes/pathtrace.ron", "--size", "32x32", "--frames", "1", "--seed", seed, "--out", &image]);
-        assert_eq!(code, 0, "{err}");
-        let (code, cmp, err) = glint(&["compare", &reference, &image]);
-        assert_eq!(code, 0, "{err}");
-        flips.push(cmp.lines().find_map(|l| l.strip_prefix("flip_mean=")).unwrap().parse::<f64>().unwrap());
+    for graph in ["pathtrace", "direct"] {
+        let mut flips = Vec::new();
+        for seed in ["1", "2", "3"] {
+            let image = dir.join(format!("{graph}-seed{seed}.exr")).to_string_lossy().into_owned();
+            let path = format!("passes/{graph}.ron");
+            let (code, _, err) = glint(&["render", "scenes/cornell.ron", "--graph", &path, "--size", "32x32", "--frames", "1", "--seed", seed, "--out", &image]);
+            assert_eq!(code, 0, "{err}");
+            let (code, cmp, err) = glint(&["compare", &reference, &image]);
+            assert_eq!(code, 0, "{err}");
+            flips.push(cmp.lines().find_map(|l| l.strip_prefix("flip_mean=")).unwrap().parse::<f64>().unwrap());
+        }
+        assert!(flips[0] != flips[1] && flips[1] != flips[2], "{graph}: seeds draw different samples: {flips:?}");
+        let mean = flips.iter().sum::<f64>() / 3.0;
+        let row = rows.iter().find(|r| r[0] == graph && r[2] == "1").unwrap_or_else(|| panic!("no first frame of {graph}: {csv}"));
+        let first: f64 = row[5].parse().unwrap();
+        assert!((first - mean).abs() < 1e-4, "{graph}: the CSV's first frame {first}, the seeds' mean {mean} ({flips:?})");
     }
-    assert!(flips[0] != flips[1] && flips[1] != flips[2], "seeds draw different samples: {flips:?}");
-    let mean = flips.iter().sum::<f64>() / 3.0;
-    let first: f64 = rows[0][5].parse().unwrap();
-    assert!((first - mean).abs() < 1e-4, "the CSV's first frame {first}, the seeds' mean {mean} ({flips:?})");
     let md = std::fs::read_to_string(dir.join("trade.md")).unwrap();
-    assert!(md.contains("Over the seeds") && md.contains("| pathtrace | 3 |"), "{md}\n{stdout}");
+    assert!(md.contains("Over the seeds") && md.contains("| pathtrace | 3 |") && md.contains("| direct | 3 |"), "{md}\n{stdout}");
     for bad in [&["--seeds", "0"][..], &["--seeds", "2", "--animate"][..]] {
         let mut a = vec!["trade", "scenes/cornell.ron", "--graphs", "passes/pathtrace.ron", "--out", &out];
         a.extend(bad);

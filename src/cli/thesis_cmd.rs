@@ -23,9 +23,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::stress::{stress_frame, StressStep};
-use super::trade_run::{cached_reference, ReferenceSpec, Run};
+use super::trade_run::{cached_reference, step_together, ReferenceSpec, Run};
 use crate::error::UserError;
-use crate::gpu::readback::ImageF32;
 use crate::gpu::Gpu;
 use crate::graph::desc::ParamValue;
 use crate::graph::executor::Timing;
@@ -96,20 +95,6 @@ fn thesis_pathtracer() -> Setting {
 /// The hybrid without its post-processing (noise mask and refinement).
 fn without_mask() -> Setting {
     Setting { name: "no mask".into(), skip: vec!["refine".into()], ..Setting::plain() }
-}
-
-/// Runs in alternation, a frame each in turn, for `frames` frames.
-fn step_together(runs: &mut [Run], frames: u32, reference: Option<&ImageF32>, what: &str) -> Result<(), UserError> {
-    let bar = indicatif::ProgressBar::new(u64::from(frames));
-    bar.set_style(indicatif::ProgressStyle::with_template(&format!("{what} {{bar:30}} {{pos}}/{{len}}")).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
-    for f in 1..=frames {
-        for r in runs.iter_mut() {
-            r.step(reference)?;
-        }
-        bar.set_position(u64::from(f));
-    }
-    bar.finish_and_clear();
-    Ok(())
 }
 
 fn med_ms(c: &Curve) -> f64 {

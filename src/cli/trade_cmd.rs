@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::trade_run::{cached_reference, file_safe, measure, pathtracer_beside, ReferenceSpec, Run};
+use super::trade_run::{cached_reference, file_safe, pathtracer_beside, step_together, ReferenceSpec, Run};
 use crate::error::UserError;
 use crate::gpu::Gpu;
 use crate::graph::executor::Timing;
@@ -122,14 +122,17 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     let mut curves = Vec::new();
     let mut seed_runs = Vec::new();
     let mut panels = vec![crate::trade::plot::Panel { label: "reference".into(), image: image_io::to_srgb8(&reference), flip_map: None }];
+    let mut variants = Vec::new();
     for (graph, setting) in args.graphs.iter().flat_map(|g| settings.iter().map(move |s| (g, s))) {
         let desc = crate::graph::FrameGraph::load(graph)?;
         if let Some(missing) = setting.passes().into_iter().find(|p| !desc.passes.iter().any(|q| q.name == *p)) {
             out!("{} [{}]: skipped, the graph has no pass `{missing}`", graph.display(), setting.name);
             continue;
         }
-        let (curve, last) = measure_seeds(&args, &gpu, graph, setting, &reference, &mut seed_runs)?;
-        let file = if setting.name.is_empty() { format!("{}-final.exr", curve.graph) } else { format!("{}-{}-final.exr", curve.graph, file_safe(&setting.name)) };
+        variants.push((graph, setting));
+    }
+    for ((curve, last), runs) in measure_seeds(&args, &gpu, &variants, &reference)? {
+        let file = if curve.setting.is_empty() { format!("{}-final.exr", curve.graph) } else { format!("{}-{}-final.exr", curve.graph, file_safe(&curve.setting)) };
         image_io::save(&last, &args.out.join(file))?;
         let (flip, map) = metrics::flip(&reference, &last);
         panels.push(crate::trade::plot::Panel { label: curve.label(), image: image_io::to_srgb8(&last), flip_map: Some((map, f64::from(flip.mean))) });
@@ -140,6 +143,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
             curve.samples.last().map_or(0.0, |s| s.cum_ms),
             curve.samples.last().map_or(f64::NAN, |s| s.flip)
         );
+        seed_runs.push((curve.label(), runs));
         curves.push(curve);
     }
     let csv_path = args.out.join("trade.csv");
@@ -151,7 +155,7 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
         args.size.1,
         gpu.describe(),
         args.frames,
-        if args.seeds > 1 { format!(", each frame's figures the mean over seeds 1 to {}", args.seeds) } else { String::new() },
+        if args.seeds > 1 { format!(", each frame's figures the mean over seeds 1 to {} (the graphs in turn seed by seed, in reverse order every other seed)", args.seeds) } else { String::new() },
         if Timing::stamps_bracket_work(&gpu) { "GPU timestamps" } else { "wall clock, each frame waited for (this adapter's timestamps do not bracket the work)" },
         args.reference.as_ref().map_or(format!("pathtrace.ron at {} samples per pixel", args.reference_frames), |p| p.display().to_string())
     );
@@ -170,27 +174,44 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
     Ok(())
 }
 
-/// One graph and setting rendered with seeds 1..=`args.seeds`: the mean
-/// curve, and seed 1's final image; each seed's curve goes on `seed_runs`
-/// under the curve's label.
-fn measure_seeds(
-    args: &TradeArgs,
-    gpu: &Gpu,
-    graph: &std::path::Path,
-    setting: &Setting,
-    reference: &crate::gpu::readback::ImageF32,
-    seed_runs: &mut Vec<(String, Vec<crate::trade::Curve>)>,
-) -> Result<(crate::trade::Curve, crate::gpu::readback::ImageF32), UserError> {
-    let mut runs = Vec::new();
-    let mut first_image = None;
+/// Every graph and setting rendered with seeds 1..=`args.seeds`, seed by
+/// seed, each seed's runs one after another, in reverse order every other
+/// seed (A B, B A, A B, ...): this machine's speed drifts over minutes,
+/// and a graph whose seeds all ran first would carry the drift into the
+/// graphs' ratio. Each run renders its frames alone, its data warm in the
+/// caches as when a user runs it (a frame each in turn, the graphs evict
+/// each other's textures: realtime.ron's frame then measured 1.3x the path
+/// tracer's against 1.2x). For each: the mean curve with seed 1's final
+/// image, and each seed's curve.
+type Measured = ((crate::trade::Curve, crate::gpu::readback::ImageF32), Vec<crate::trade::Curve>);
+
+fn measure_seeds(args: &TradeArgs, gpu: &Gpu, variants: &[(&PathBuf, &Setting)], reference: &crate::gpu::readback::ImageF32) -> Result<Vec<Measured>, UserError> {
+    let mut per_variant: Vec<Vec<crate::trade::Curve>> = variants.iter().map(|_| Vec::new()).collect();
+    let mut first_images: Vec<Option<crate::gpu::readback::ImageF32>> = variants.iter().map(|_| None).collect();
     for seed in 1..=args.seeds {
-        let run = Run::with_seed(gpu, scene::load(&args.scene)?, graph, setting, args.size, seed)?;
-        let (curve, last) = measure(run, args.frames, reference)?;
-        first_image.get_or_insert(last);
-        runs.push(curve);
+        let mut order: Vec<usize> = (0..variants.len()).collect();
+        if seed % 2 == 0 {
+            order.reverse();
+        }
+        for i in order {
+            let (graph, setting) = variants[i];
+            let mut run = Run::with_seed(gpu, scene::load(&args.scene)?, graph, setting, args.size, seed)?;
+            let what = format!("{} seed {seed}", run.graph);
+            step_together(std::slice::from_mut(&mut run), args.frames, Some(reference), &what)?;
+            let (curve, last) = run.finish();
+            if let Some(last) = last {
+                first_images[i].get_or_insert(last);
+            }
+            per_variant[i].push(curve);
+        }
     }
-    let curve = crate::trade::seeds::mean_over_seeds(&runs).ok_or_else(|| UserError::new("no seed was rendered"))?;
-    let image = first_image.ok_or_else(|| UserError::new("no seed was rendered"))?;
-    seed_runs.push((curve.label(), runs));
-    Ok((curve, image))
+    per_variant
+        .into_iter()
+        .zip(first_images)
+        .map(|(runs, image)| {
+            let curve = crate::trade::seeds::mean_over_seeds(&runs).ok_or_else(|| UserError::new("no seed was rendered"))?;
+            let image = image.ok_or_else(|| UserError::new("no seed was rendered"))?;
+            Ok(((curve, image), runs))
+        })
+        .collect()
 }

@@ -161,17 +161,22 @@ impl Motion {
     }
 }
 
-/// Renders `frames` frames of one run against `reference`, with a
-/// progress bar; its curve and final image.
-pub(crate) fn measure(mut run: Run, frames: u32, reference: &ImageF32) -> Result<(Curve, ImageF32), UserError> {
+/// Runs in alternation, a frame each in turn, for `frames` frames: this
+/// machine's speed drifts over minutes, and graphs measured one after
+/// another would carry that drift into their ratio. Each frame starts
+/// with the next run, so that none always follows the same one.
+pub(crate) fn step_together(runs: &mut [Run], frames: u32, reference: Option<&ImageF32>, what: &str) -> Result<(), UserError> {
     let bar = indicatif::ProgressBar::new(u64::from(frames));
-    for frame in 1..=frames {
-        run.step(Some(reference))?;
-        bar.set_position(u64::from(frame));
+    bar.set_style(indicatif::ProgressStyle::with_template(&format!("{what} {{bar:30}} {{pos}}/{{len}}")).unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
+    let n = runs.len();
+    for f in 1..=frames {
+        for k in 0..n {
+            runs[(f as usize + k) % n].step(reference)?;
+        }
+        bar.set_position(u64::from(f));
     }
     bar.finish_and_clear();
-    let (curve, last) = run.finish();
-    Ok((curve, last.unwrap_or_else(|| ImageF32::new(1, 1))))
+    Ok(())
 }
 
 /// What a cached reference was rendered from.
