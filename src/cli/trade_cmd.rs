@@ -178,11 +178,10 @@ pub fn run(args: TradeArgs) -> Result<(), UserError> {
 /// seed, each seed's runs one after another, in reverse order every other
 /// seed (A B, B A, A B, ...): this machine's speed drifts over minutes,
 /// and a graph whose seeds all ran first would carry the drift into the
-/// graphs' ratio. Each run renders its frames alone, its data warm in the
-/// caches as when a user runs it (a frame each in turn, the graphs evict
-/// each other's textures: realtime.ron's frame then measured 1.3x the path
-/// tracer's against 1.2x). For each: the mean curve with seed 1's final
-/// image, and each seed's curve.
+/// graphs' ratio. Each run renders its frames alone, as when a user runs
+/// it (with a frame each in turn the graphs share the caches:
+/// docs/trade.md, "Over seeds"). For each: the mean curve with seed 1's
+/// final image, and each seed's curve.
 type Measured = ((crate::trade::Curve, crate::gpu::readback::ImageF32), Vec<crate::trade::Curve>);
 
 fn measure_seeds(args: &TradeArgs, gpu: &Gpu, variants: &[(&PathBuf, &Setting)], reference: &crate::gpu::readback::ImageF32) -> Result<Vec<Measured>, UserError> {
