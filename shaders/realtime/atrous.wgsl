@@ -44,6 +44,14 @@ override PAIRS: bool = true;
 // a penumbra meets the umbra or the lit floor (docs/realtime.md, "The
 // direct light's filter fades out").
 override DIRECT_UNTIL_FRAMES: u32 = 0u;
+// The colour tests' sigma once the image has stood still for 16 frames
+// (0: `sigma_l` throughout), reached linearly from `sigma_l` at 8. The
+// means' noise falls as 1/sqrt(n), so the tests let less and less through;
+// a wider sigma makes the narrow steps, which never stop, fade more slowly
+// (docs/realtime.md, "A wider colour test once still").
+override STILL_SIGMA_L: f32 = 0.0;
+// This pixel's colour sigma this frame (set by filter_at).
+var<private> colour_sigma: f32;
 
 struct Params {
     sigma_l: f32, // ui: 0.5..64 log "luminance sigma"
@@ -89,6 +97,10 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
     // every lane, so a SIMD driver skips what follows).
     if params.until_frames > 0u && frame.accum_count >= params.until_frames {
         return Filtered(own, own_d);
+    }
+    colour_sigma = params.sigma_l;
+    if STILL_SIGMA_L > 0.0 {
+        colour_sigma = mix(params.sigma_l, STILL_SIGMA_L, clamp((f32(frame.accum_count) - 8.0) / 8.0, 0.0, 1.0));
     }
     let gp = load_guide(guide, p);
     // 1/4, 1/2, 1/4 in each axis; the centre's weight is (1/2)^2.
@@ -197,7 +209,7 @@ fn normalised(s: Sums) -> vec4f {
 fn pair_test(own: vec4f, a: vec4f, b: vec4f) -> f32 {
     let m = 0.5 * (a.rgb + b.rgb) - own.rgb;
     let colour = max(abs(m.r), max(abs(m.g), abs(m.b)));
-    return colour / (params.sigma_l * sqrt(own.a + 0.25 * (a.a + b.a)) + 1e-20);
+    return colour / (colour_sigma * sqrt(own.a + 0.25 * (a.a + b.a)) + 1e-20);
 }
 
 // How far a tap's demodulated colour lies from the pixel's, in units of
@@ -206,7 +218,7 @@ fn pair_test(own: vec4f, a: vec4f, b: vec4f) -> f32 {
 // filter keeps the image's energy.
 fn colour_test(own: vec4f, tap: vec4f) -> f32 {
     let colour = max(abs(tap.r - own.r), max(abs(tap.g - own.g), abs(tap.b - own.b)));
-    return colour / (params.sigma_l * sqrt(own.a + tap.a) + 1e-20);
+    return colour / (colour_sigma * sqrt(own.a + tap.a) + 1e-20);
 }
 
 @compute @workgroup_size(128, 1)
