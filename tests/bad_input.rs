@@ -264,7 +264,7 @@ fn round_two_is_a_clear_error() {
     let deep = deep.display().to_string();
     let realtime = std::fs::read_to_string(repo().join("passes/realtime.ron")).unwrap();
     let constant = dir.join("constant.ron");
-    std::fs::write(&constant, realtime.replacen("constants: { STEP: 1 }", "constants: { STEP: 1e30 }", 1)).unwrap();
+    std::fs::write(&constant, realtime.replacen("constants: { STEP: 1,", "constants: { STEP: 1e30,", 1)).unwrap();
     let constant = constant.display().to_string();
     cases.extend([
         ("a param of the wrong type", vec!["graph", "check", &wrong_param], vec![], vec!["wrong-param.ron:21:", "a param value: a number", "found the string \"yes\""]),
