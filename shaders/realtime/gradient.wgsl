@@ -48,7 +48,7 @@ fn replay(id: vec2u) -> Replay {
     var flat = scene_flat;
     let rng_key = rng_frame_key(prev_frame, PATH_RENDER_SALT, frame.seed);
     var rng = rng_at(rng_key, pixel);
-    start_blue_noise(pixel, prev_frame, rng_key);
+    start_blue_noise(pixel, prev_frame);
     let cam = frame.prev_camera;
     let rd = camera_dir(cam, pixel, rand2(&rng));
     path_primary_direct = vec3f(0.0);

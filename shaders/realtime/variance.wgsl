@@ -109,6 +109,13 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     var value = own.rgb;
     var var_mean = 0.0;
     var var_d = 0.0;
+    // The 3x3 blur of the moments' variance (below), summed in the
+    // neighbours' loop where its taps are the same pixels (step 1): a
+    // texel load is what a CPU driver's pass costs.
+    var sum = select(0.0, 0.25 * own.a, !spatial_variance);
+    var sum_d = select(0.0, 0.25 * own_d.a, temporal_direct);
+    var blurred = false;
+    var blurred_d = false;
     if spatial_variance || blur > 0.0 {
         // A 3x3 of neighbours, SPREAD_STEP pixels apart for the spread
         // (the 5x5's 25 taps measured the same first frames over 12 seeds
@@ -128,6 +135,8 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
         // d stepped through the rows above the centre and the centre row's
         // left half, without an integer division (a SIMD CPU driver
         // divides one lane at a time).
+        blurred = !spatial_variance && pairs == 4u;
+        blurred_d = blurred && temporal_direct;
         var d = vec2i(-1, -1);
         for (var k = 0u; k < pairs; k++) {
             let qa = clamp(p + d * step, vec2i(0), size - 1);
@@ -135,13 +144,25 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
             let scale = plane_scale * inverseSqrt(f32(dot(d, d) * step * step));
             let wa = geometry_weight(gp, load_guide(guide, qa), scale, 0.0);
             let wb = geometry_weight(gp, load_guide(guide, qb), scale, 0.0);
+            let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
             d.x += 1;
             if d.x > 1 {
                 d = vec2i(-1, d.y + 1);
             }
-            light = spread_add(spread_add(light, wa, textureLoad(tex, qa).rgb), wb, textureLoad(tex, qb).rgb);
-            if with_direct && !temporal_direct {
-                direct = spread_add(spread_add(direct, wa, textureLoad(dtex, qa).rgb), wb, textureLoad(dtex, qb).rgb);
+            let ta = textureLoad(tex, qa);
+            let tb = textureLoad(tex, qb);
+            light = spread_add(spread_add(light, wa, ta.rgb), wb, tb.rgb);
+            if blurred {
+                sum += kernel * (ta.a + tb.a);
+            }
+            if with_direct && (!temporal_direct || blurred_d) {
+                let da = textureLoad(dtex, qa);
+                let db = textureLoad(dtex, qb);
+                if blurred_d {
+                    sum_d += kernel * (da.a + db.a);
+                } else {
+                    direct = spread_add(spread_add(direct, wa, da.rgb), wb, db.rgb);
+                }
             }
             wsum += wa + wb;
         }
@@ -154,22 +175,22 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
             var_d = spread_variance(direct, wsum, n, params.direct_boost);
         }
     }
-    if !spatial_variance || temporal_direct {
+    let blur_light = !spatial_variance && !blurred;
+    let blur_direct = temporal_direct && !blurred_d;
+    if blur_light || blur_direct {
         // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
         // only the noise's level is blurred. The centre, then opposite
         // pairs, as above.
-        var sum = select(0.0, 0.25 * own.a, !spatial_variance);
-        var sum_d = select(0.0, 0.25 * own_d.a, temporal_direct);
         let pairs = 4u * u32(frame.exact_one);
         var d = vec2i(-1, -1);
         for (var k = 0u; k < pairs; k++) {
             let qa = clamp(p + d, vec2i(0), size - 1);
             let qb = clamp(p - d, vec2i(0), size - 1);
             let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
-            if !spatial_variance {
+            if blur_light {
                 sum += kernel * (textureLoad(tex, qa).a + textureLoad(tex, qb).a);
             }
-            if temporal_direct {
+            if blur_direct {
                 sum_d += kernel * (textureLoad(dtex, qa).a + textureLoad(dtex, qb).a);
             }
             d.x += 1;
@@ -177,12 +198,12 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
                 d = vec2i(-1, 0);
             }
         }
-        if !spatial_variance {
-            var_mean = sum;
-        }
-        if temporal_direct {
-            var_d = sum_d;
-        }
+    }
+    if !spatial_variance {
+        var_mean = sum;
+    }
+    if temporal_direct {
+        var_d = sum_d;
     }
     return Estimate(vec4f(value, var_mean), vec4f(own_d.rgb, var_d));
 }

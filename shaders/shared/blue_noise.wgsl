@@ -5,38 +5,39 @@
 // (Heitz and Belcour 2019). Over frames each pixel's numbers move along a
 // Kronecker sequence (the golden ratio in 1D, Roberts' R2 in 2D): a pixel's
 // own samples are then a low-discrepancy sequence, each still uniform.
-#import rng
+// The numbers are the ranks' bins' lower ends moved along the sequence,
+// the same for every seed: a white-noise jitter within each rank's 1/4096
+// cost the path pass 8% at 1280x720 (eight draws a pixel, on every trip of
+// its loop), and a random shift per seed made the temporal gradients
+// miss a moved light's change (docs/realtime.md, "Blue-noise first hits").
 
 @group(1) @binding(13) var blue_noise: texture_storage_2d<rgba32uint, read>;
 
 const BLUE_NOISE_SIDE: u32 = 64u;
 
 // The ranks of the four tiles at `pixel`, shifted by `shift` pixels (a
-// second set of dimensions, nearly uncorrelated with the first), in [0, 1)
-// with `jitter` spreading each rank over its 1/4096.
-fn blue_noise_ranks(pixel: vec2u, shift: vec2u, jitter: vec4f) -> vec4f {
+// second set of dimensions, nearly uncorrelated with the first), in [0, 1).
+fn blue_noise_ranks(pixel: vec2u, shift: vec2u) -> vec4f {
     let q = (pixel + shift) % BLUE_NOISE_SIDE;
     let r = textureLoad(blue_noise, vec2u(q.y * BLUE_NOISE_SIDE + q.x, 0u));
-    return (vec4f(r) + jitter) * (1.0 / 4096.0);
+    return vec4f(r) * (1.0 / 4096.0);
 }
 
 // Eight blue-noise numbers for `pixel` in frame `k`, as four pairs, each
 // pair rotated along R2 (so a pair is a low-discrepancy 2D sequence over
-// frames); white-noise `rng` draws only fill each rank's bin.
+// frames).
 struct BlueNoise {
     a: vec4f,
     b: vec4f,
 }
 
-fn blue_noise_at(pixel: vec2u, k: u32, rng: ptr<function, Rng>) -> BlueNoise {
+fn blue_noise_at(pixel: vec2u, k: u32) -> BlueNoise {
     // fract(k * R2) in 32-bit fixed point (R2 = (0.75487766, 0.56984029)
     // times 2^32), exact however large k grows; its top 24 bits as f32.
     let step = vec2f(vec2u(k * 3242174890u, k * 2447445414u) >> vec2u(8u)) * (1.0 / 16777216.0);
     let rot = vec4f(step, step.yx);
-    let j0 = vec4f(rand2(rng), rand2(rng));
-    let j1 = vec4f(rand2(rng), rand2(rng));
     return BlueNoise(
-        fract(blue_noise_ranks(pixel, vec2u(0u), j0) + rot),
-        fract(blue_noise_ranks(pixel, vec2u(32u, 21u), j1) + rot.zwxy),
+        fract(blue_noise_ranks(pixel, vec2u(0u)) + rot),
+        fract(blue_noise_ranks(pixel, vec2u(32u, 21u)) + rot.zwxy),
     );
 }

@@ -127,13 +127,11 @@ fn end_direct(result: vec3f) {
 override BLUE_NOISE_FIRST: bool = false;
 var<private> path_bn: BlueNoise;
 var<private> path_bn_pending: bool;
-const BLUE_NOISE_SALT: u32 = 0x626e6f69u;
 
-fn start_blue_noise(pixel: vec2u, frame_index: u32, rng_key: u32) {
+fn start_blue_noise(pixel: vec2u, frame_index: u32) {
     path_bn_pending = BLUE_NOISE_FIRST;
     if BLUE_NOISE_FIRST {
-        var jitter = rng_at(rng_key ^ BLUE_NOISE_SALT, pixel);
-        path_bn = blue_noise_at(pixel, frame_index, &jitter);
+        path_bn = blue_noise_at(pixel, frame_index);
     }
 }
 

@@ -89,7 +89,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
     let step = vec2u(lanes % frame.size.x, lanes / frame.size.x);
     let rng_key = rng_frame_key(frame.frame_index, PATH_RENDER_SALT + params.spp_done * 0x9e3779b9u, frame.seed);
     var rng = rng_at(rng_key, pixel);
-    start_blue_noise(pixel, frame.frame_index, rng_key);
+    start_blue_noise(pixel, frame.frame_index);
     path_dither_key = rng_frame_key(frame.frame_index, SAMPLE_DITHER_SALT, frame.seed);
     var s = 0u;
     var sum = vec3f(0.0);
@@ -132,7 +132,7 @@ fn render(flat: ptr<function, FlatScene>, id: vec3u, groups: vec3u) {
         } else if path_done && !lane_done {
             if pixel_done {
                 rng = rng_at(rng_key, next_pixel);
-                start_blue_noise(next_pixel, frame.frame_index, rng_key);
+                start_blue_noise(next_pixel, frame.frame_index);
             }
             ro = frame.camera.origin;
             rd = camera_dir(frame.camera, select(pixel, next_pixel, pixel_done), rand2(&rng));
