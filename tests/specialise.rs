@@ -121,3 +121,31 @@ fn the_denoisers_per_frame_pipelines_give_the_generic_image() {
         assert!(stats.mean < 1e-4, "realtime.ron on {name}: per-frame pipelines against generic, FLIP {}", stats.mean);
     }
 }
+
+/// realtime.ron's wide à-trous steps filter two pixels an invocation
+/// (`main_pairs`, `last_split_pairs`: the two windows share six texels):
+/// the image is the one-pixel entries' bit for bit, at sizes whose rows
+/// end in a pixel without its pair, in still frames and in motion.
+#[test]
+fn paired_filter_steps_make_the_one_pixel_steps_image() {
+    let Some(gpu) = gpu() else { return };
+    const PAIRS: &str = "_pairs\", texels_per_invocation: 2,";
+    let text = std::fs::read_to_string(repo().join("passes/realtime.ron")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(text.matches(PAIRS).count(), 3, "realtime.ron's wide steps no longer run in pairs as this test expects");
+    let single = scratch("pairs").join("realtime.ron");
+    std::fs::write(&single, text.replace(PAIRS, "\",")).unwrap_or_else(|e| panic!("{e}"));
+    for (name, size, dt) in [("cornell.ron", (37, 29), 0.0), ("moving-lights.ron", (50, 21), 1.0 / 30.0)] {
+        let images: Vec<_> = [repo().join("passes/realtime.ron"), single.clone()]
+            .iter()
+            .map(|graph| {
+                let compiled = compile(&load_scene(name), graph, &CompileOptions::default());
+                let mut s = session(gpu, load_scene(name), &compiled, size, 1);
+                for _ in 0..4 {
+                    s.frame(dt);
+                }
+                s.read_output().unwrap_or_else(|e| panic!("{e}"))
+            })
+            .collect();
+        assert!(images[0].data == images[1].data, "{name} at {size:?}: the paired steps' image differs from the one-pixel steps'");
+    }
+}

@@ -87,36 +87,81 @@ struct Filtered {
 }
 
 fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_storage_2d<rgba32float, read>, with_direct: bool) -> Filtered {
-    let own = textureLoad(tex, p);
-    var own_d = vec4f(0.0);
-    if with_direct {
-        own_d = textureLoad(dtex, p);
-    }
     // Once the image has stood still long enough the step passes its
     // input through, reading nothing else (the condition is the same for
     // every lane, so a SIMD driver skips what follows).
-    if params.until_frames > 0u && frame.accum_count >= params.until_frames {
-        return Filtered(own, own_d);
+    if passes_through() {
+        return Filtered(textureLoad(tex, p), select(vec4f(0.0), textureLoad(dtex, p), with_direct));
     }
+    // All nine texels loaded first, surface or not: loaded under the
+    // surface test's lane mask, the steps took 1.05-1.12x the time on
+    // lavapipe (docs/realtime.md, "Cost at 1280x720").
+    let w = Window(
+        load_texel(p + vec2i(-STEP, -STEP), tex, dtex, with_direct), load_texel(p + vec2i(STEP, STEP), tex, dtex, with_direct),
+        load_texel(p + vec2i(0, -STEP), tex, dtex, with_direct), load_texel(p + vec2i(0, STEP), tex, dtex, with_direct),
+        load_texel(p + vec2i(STEP, -STEP), tex, dtex, with_direct), load_texel(p + vec2i(-STEP, STEP), tex, dtex, with_direct),
+        load_texel(p + vec2i(-STEP, 0), tex, dtex, with_direct), load_texel(p + vec2i(STEP, 0), tex, dtex, with_direct),
+    );
+    return filter_window(load_texel(p, tex, dtex, with_direct), w, with_direct);
+}
+
+fn passes_through() -> bool {
+    return params.until_frames > 0u && frame.accum_count >= params.until_frames;
+}
+
+// A texel a step reads: its two signals and its surface, and whether it
+// lies in the image (a tap outside gets none of its weight; its texel is
+// the nearest one inside).
+struct Texel {
+    light: vec4f,
+    direct: vec4f,
+    guide: Guide,
+    inside: bool,
+}
+
+fn load_texel(q: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_storage_2d<rgba32float, read>, with_direct: bool) -> Texel {
+    let c = clamp(q, vec2i(0), vec2i(frame.size) - 1);
+    var d = vec4f(0.0);
+    if with_direct {
+        d = textureLoad(dtex, c);
+    }
+    return Texel(textureLoad(tex, c), d, load_guide(guide, c), all(q == c));
+}
+
+// A pixel's eight taps, in opposite pairs (a, b): up and left of the
+// centre (up-left, up, up-right, left), and opposite.
+struct Window {
+    a0: Texel,
+    b0: Texel,
+    a1: Texel,
+    b1: Texel,
+    a2: Texel,
+    b2: Texel,
+    a3: Texel,
+    b3: Texel,
+}
+
+// This iteration at the pixel whose texel is `own`, from its window.
+fn filter_window(own: Texel, w: Window, with_direct: bool) -> Filtered {
     colour_sigma = params.sigma_l;
     if STILL_SIGMA_L > 0.0 {
         colour_sigma = mix(params.sigma_l, STILL_SIGMA_L, clamp((f32(frame.accum_count) - 8.0) / 8.0, 0.0, 1.0));
     }
-    let gp = load_guide(guide, p);
+    let gp = own.guide;
     // 1/4, 1/2, 1/4 in each axis; the centre's weight is (1/2)^2.
-    var sums = Both(centre_sums(own), centre_sums(own_d));
+    var sums = Both(centre_sums(own.light), centre_sums(own.direct));
     // The taps off the centre, where a lane has a surface to filter, in
-    // opposite pairs: up and left of the centre, and opposite. Written
-    // out, the four pairs take plain steps 0.92-0.96x the time of a loop
-    // over them on lavapipe (docs/realtime.md, "Cost at 1280x720").
+    // opposite pairs. Written out, the four pairs take plain steps
+    // 0.92-0.96x the time of a loop over them on lavapipe
+    // (docs/realtime.md, "Cost at 1280x720").
     if gp.surface {
         let axis = plane_scale(gp, params.depth_sigma) / f32(STEP);
         let diagonal = axis * (1.0 / sqrt(2.0));
-        let c = Centre(p, gp, own, own_d);
-        sums = add_taps(sums, c, vec2i(-1, -1), diagonal, 0.0625, tex, dtex, with_direct);
-        sums = add_taps(sums, c, vec2i(0, -1), axis, 0.125, tex, dtex, with_direct);
-        sums = add_taps(sums, c, vec2i(1, -1), diagonal, 0.0625, tex, dtex, with_direct);
-        sums = add_taps(sums, c, vec2i(-1, 0), axis, 0.125, tex, dtex, with_direct);
+        let c = Centre(gp, own.light, own.direct);
+        sums = add_taps(sums, c, w.a0, w.b0, diagonal, 0.0625, with_direct);
+        sums = add_taps(sums, c, w.a1, w.b1, axis, 0.125, with_direct);
+        sums = add_taps(sums, c, w.a2, w.b2, diagonal, 0.0625, with_direct);
+        sums = add_taps(sums, c, w.a3, w.b3, axis, 0.125, with_direct);
     }
     let filtered = Filtered(normalised(sums.light), normalised(sums.direct));
     // Over the second half of `until_frames` the step fades into its input,
@@ -125,9 +170,66 @@ fn filter_at(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture
     let fade = still_share(params.until_frames);
     let fade_d = fade * still_share(DIRECT_UNTIL_FRAMES);
     if fade < 1.0 || fade_d < 1.0 {
-        return Filtered(mix(own, filtered.light, fade), mix(own_d, filtered.direct, fade_d));
+        return Filtered(mix(own.light, filtered.light, fade), mix(own.direct, filtered.direct, fade_d));
     }
     return filtered;
+}
+
+// Pixel pairs (the `_pairs` entries, run with the graph's
+// `texels_per_invocation: 2`): an invocation filters pixels p and
+// p + (STEP, 0), whose windows share six of their nine texels, loading 12
+// texels for both instead of 18 (a texel load is most of a step's cost on
+// a CPU driver). Each pixel's arithmetic is the single entries', so the
+// images are the same bit for bit.
+struct Pair {
+    a: Filtered,
+    b: Filtered,
+}
+
+fn filter_pair(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_storage_2d<rgba32float, read>, with_direct: bool) -> Pair {
+    let s = STEP;
+    if passes_through() {
+        return Pair(filter_at(p, tex, dtex, with_direct), filter_at(p + vec2i(s, 0), tex, dtex, with_direct));
+    }
+    // Rows -STEP, 0, STEP; columns -STEP, 0, STEP, 2 STEP.
+    let t00 = load_texel(p + vec2i(-s, -s), tex, dtex, with_direct);
+    let t01 = load_texel(p + vec2i(0, -s), tex, dtex, with_direct);
+    let t02 = load_texel(p + vec2i(s, -s), tex, dtex, with_direct);
+    let t03 = load_texel(p + vec2i(2 * s, -s), tex, dtex, with_direct);
+    let t10 = load_texel(p + vec2i(-s, 0), tex, dtex, with_direct);
+    let t11 = load_texel(p, tex, dtex, with_direct);
+    let t12 = load_texel(p + vec2i(s, 0), tex, dtex, with_direct);
+    let t13 = load_texel(p + vec2i(2 * s, 0), tex, dtex, with_direct);
+    let t20 = load_texel(p + vec2i(-s, s), tex, dtex, with_direct);
+    let t21 = load_texel(p + vec2i(0, s), tex, dtex, with_direct);
+    let t22 = load_texel(p + vec2i(s, s), tex, dtex, with_direct);
+    let t23 = load_texel(p + vec2i(2 * s, s), tex, dtex, with_direct);
+    return Pair(
+        filter_window(t11, Window(t00, t22, t01, t21, t02, t20, t10, t12), with_direct),
+        filter_window(t12, Window(t01, t23, t02, t22, t03, t21, t11, t13), with_direct),
+    );
+}
+
+// How many pairs a row holds: pixel x with x + STEP for every x whose
+// x / STEP is even (the last such x may have no partner in the row).
+fn row_pairs() -> u32 {
+    let s = u32(STEP);
+    let w = frame.size.x;
+    return (w / (2u * s)) * s + min(w % (2u * s), s);
+}
+
+// The first pixel of a row's pair j.
+fn pair_x(j: u32) -> u32 {
+    let s = u32(STEP);
+    return (j / s) * 2u * s + j % s;
+}
+
+// A pair's two values stored (the second where it lies in the image).
+fn store_pair(p: vec2i, a: vec4f, b: vec4f) {
+    textureStore(filtered, p, a);
+    if p.x + STEP < i32(frame.size.x) {
+        textureStore(filtered, p + vec2i(STEP, 0), b);
+    }
 }
 
 // A step's share of its output: 1 until half of `until_frames` still
@@ -142,9 +244,8 @@ fn still_share(until_frames: u32) -> f32 {
     return clamp(2.0 * (u - f32(frame.accum_count)) / u, 0.0, 1.0);
 }
 
-// The pixel a step filters: where it is, its surface and its two signals.
+// The pixel a step filters: its surface and its two signals.
 struct Centre {
-    p: vec2i,
     guide: Guide,
     light: vec4f,
     direct: vec4f,
@@ -156,23 +257,17 @@ struct Both {
     direct: Sums,
 }
 
-// The taps at d and -d (STEP pixels a unit of d) added to both signals'
-// sums, weighed by their surfaces (`scale`: the plane test's, per unit of
-// distance) and colours, `kernel` the B-spline's weight of each. A tap
-// outside the image gets none of its weight.
-fn add_taps(s: Both, c: Centre, d: vec2i, scale: f32, kernel: f32, tex: texture_storage_2d<rgba32float, read>, dtex: texture_storage_2d<rgba32float, read>, with_direct: bool) -> Both {
-    let size = vec2i(frame.size);
-    let qa = c.p + d * STEP;
-    let qb = c.p - d * STEP;
-    let ca = clamp(qa, vec2i(0), size - 1);
-    let cb = clamp(qb, vec2i(0), size - 1);
+// Taps a and b added to both signals' sums, weighed by their surfaces
+// (`scale`: the plane test's, per unit of distance) and colours, `kernel`
+// the B-spline's weight of each.
+fn add_taps(s: Both, c: Centre, ta: Texel, tb: Texel, scale: f32, kernel: f32, with_direct: bool) -> Both {
     // The surface tests' exponents (a pair needs both taps in the image).
-    let ea = select(NO_WEIGHT, geometry_exponent(c.guide, load_guide(guide, ca), scale), all(qa == ca));
-    let eb = select(NO_WEIGHT, geometry_exponent(c.guide, load_guide(guide, cb), scale), all(qb == cb));
+    let ea = select(NO_WEIGHT, geometry_exponent(c.guide, ta.guide, scale), ta.inside);
+    let eb = select(NO_WEIGHT, geometry_exponent(c.guide, tb.guide, scale), tb.inside);
     var out = s;
-    out.light = add_pair(s.light, c.light, textureLoad(tex, ca), textureLoad(tex, cb), ea, eb, kernel);
+    out.light = add_pair(s.light, c.light, ta.light, tb.light, ea, eb, kernel);
     if with_direct {
-        out.direct = add_pair(s.direct, c.direct, textureLoad(dtex, ca), textureLoad(dtex, cb), ea, eb, kernel);
+        out.direct = add_pair(s.direct, c.direct, ta.direct, tb.direct, ea, eb, kernel);
     }
     return out;
 }
@@ -256,9 +351,41 @@ fn last_split(@builtin(global_invocation_id) id: vec3u) {
     remodulate(id.xy, textureLoad(direct, id.xy).rgb - textureLoad(direct_in, id.xy).rgb);
 }
 
+// The pairs' entries: `main` and `last_split` two pixels an invocation
+// (`main_split`'s pairs, which load the direct light too, took 1.09x its
+// time: twelve texels of three textures held at once). A row may hold a few more pairs than half its width, but
+// never more than the dispatch's whole workgroups of 128 lanes cover
+// while 2 STEP divides 256 (the graphs' steps are powers of two up to 16).
+// (A loop over pairs, for any STEP, took 1.4-1.7x the time on lavapipe.)
+@compute @workgroup_size(128, 1)
+fn main_pairs(@builtin(global_invocation_id) id: vec3u) {
+    if id.x < row_pairs() && id.y < frame.size.y {
+        let p = vec2i(vec2u(pair_x(id.x), id.y));
+        let f = filter_pair(p, filtered_in, filtered_in, false);
+        store_pair(p, f.a.light, f.b.light);
+    }
+}
+
+@compute @workgroup_size(128, 1)
+fn last_split_pairs(@builtin(global_invocation_id) id: vec3u) {
+    if id.x < row_pairs() && id.y < frame.size.y {
+        let p = vec2i(vec2u(pair_x(id.x), id.y));
+        let f = filter_pair(p, filtered_in, filtered_in, false);
+        let pa = vec2u(p);
+        remodulate_filtered(pa, f.a.light.rgb, textureLoad(direct, pa).rgb - textureLoad(direct_in, pa).rgb);
+        let pb = pa + vec2u(u32(STEP), 0u);
+        if pb.x < frame.size.x {
+            remodulate_filtered(pb, f.b.light.rgb, textureLoad(direct, pb).rgb - textureLoad(direct_in, pb).rgb);
+        }
+    }
+}
+
 // The image: R + A (F - I + extra), F this iteration's filtered light.
 fn remodulate(pixel: vec2u, extra: vec3f) {
-    let f = filter_at(vec2i(pixel), filtered_in, filtered_in, false).light.rgb;
+    remodulate_filtered(pixel, filter_at(vec2i(pixel), filtered_in, filtered_in, false).light.rgb, extra);
+}
+
+fn remodulate_filtered(pixel: vec2u, f: vec3f, extra: vec3f) {
     let i = textureLoad(illum, pixel).rgb;
     let r = textureLoad(color, pixel).rgb;
     let a = textureLoad(albedo, pixel).rgb;
