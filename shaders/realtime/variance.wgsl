@@ -104,106 +104,89 @@ fn estimate(p: vec2i, tex: texture_storage_2d<rgba32float, read>, dtex: texture_
     // (its pixels' samples agree), which the neighbours' spread cannot.
     let temporal_direct = with_direct && n >= DIRECT_MOMENTS_FROM;
     let blur = clamp((3.0 - n / max(params.blur_history, 1e-6)) / 2.0, 0.0, 1.0);
+    // A 3x3 of neighbours, SPREAD_STEP pixels apart for the spread
+    // (the 5x5's 25 taps measured the same first frames over 12 seeds at
+    // 1.8x this pass's time: docs/realtime.md, "The spread in nine taps"),
+    // next to each other once history is long enough for the moments,
+    // whose variance is blurred over them; the direct light's taps are next
+    // to each other once its moments count. Written out and loaded first,
+    // whatever the pixel needs of them: a CPU driver runs every branch and
+    // loop under lane masks, and loads in them cost more (docs/realtime.md,
+    // "Cost at 1280x720").
+    let step = select(1, SPREAD_STEP, spatial_variance);
+    let step_d = select(step, 1, temporal_direct);
+    var s = Sums(
+        spread_add(Spread(vec3f(0.0), 0.0, 0.0), 1.0, own.rgb),
+        Spread(vec3f(0.0), 0.0, 0.0),
+        1.0,
+        0.25 * own.a,
+        0.25 * own_d.a,
+    );
+    if with_direct && !temporal_direct {
+        s.direct = spread_add(s.direct, 1.0, own_d.rgb);
+    }
     let gp = load_guide(guide, p);
-    let size = vec2i(frame.size);
-    var value = own.rgb;
-    var var_mean = 0.0;
+    let c = Centre(p, gp, plane_scale(gp, params.depth_sigma), step, step_d, with_direct && !temporal_direct);
+    s = add_neighbours(s, c, vec2i(-1, -1), 0.0625, tex, dtex, with_direct);
+    s = add_neighbours(s, c, vec2i(0, -1), 0.125, tex, dtex, with_direct);
+    s = add_neighbours(s, c, vec2i(1, -1), 0.0625, tex, dtex, with_direct);
+    s = add_neighbours(s, c, vec2i(-1, 0), 0.125, tex, dtex, with_direct);
+    // (wsum >= 1: the centre counts with weight 1.)
+    let value = mix(own.rgb, s.light.sum / s.wsum, blur);
+    // Below min_history the spread; above, the moments' variance blurred
+    // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not (only
+    // the noise's level is blurred).
+    let var_mean = select(s.blurred, spread_variance(s.light, s.wsum, n, params.boost), spatial_variance);
     var var_d = 0.0;
-    // The 3x3 blur of the moments' variance (below), summed in the
-    // neighbours' loop where its taps are the same pixels (step 1): a
-    // texel load is what a CPU driver's pass costs.
-    var sum = select(0.0, 0.25 * own.a, !spatial_variance);
-    var sum_d = select(0.0, 0.25 * own_d.a, temporal_direct);
-    var blurred = false;
-    var blurred_d = false;
-    if spatial_variance || blur > 0.0 {
-        // A 3x3 of neighbours, SPREAD_STEP pixels apart for the spread
-        // (the 5x5's 25 taps measured the same first frames over 12 seeds
-        // at 1.8x this pass's time: docs/realtime.md, "The spread in nine
-        // taps"), next to each other while only the blur fades out.
-        let step = select(1, SPREAD_STEP, spatial_variance);
-        // The centre, then the other taps in opposite pairs, d and -d (half
-        // the loop's trips: a CPU driver pays for each trip's bookkeeping).
-        let pairs = select(0u, 4u, gp.surface) * u32(frame.exact_one);
-        var light = spread_add(Spread(vec3f(0.0), 0.0, 0.0), 1.0, own.rgb);
-        var direct = Spread(vec3f(0.0), 0.0, 0.0);
-        if with_direct && !temporal_direct {
-            direct = spread_add(direct, 1.0, own_d.rgb);
-        }
-        var wsum = 1.0;
-        let plane_scale = plane_scale(gp, params.depth_sigma);
-        // d stepped through the rows above the centre and the centre row's
-        // left half, without an integer division (a SIMD CPU driver
-        // divides one lane at a time).
-        blurred = !spatial_variance && pairs == 4u;
-        blurred_d = blurred && temporal_direct;
-        var d = vec2i(-1, -1);
-        for (var k = 0u; k < pairs; k++) {
-            let qa = clamp(p + d * step, vec2i(0), size - 1);
-            let qb = clamp(p - d * step, vec2i(0), size - 1);
-            let scale = plane_scale * inverseSqrt(f32(dot(d, d) * step * step));
-            let wa = geometry_weight(gp, load_guide(guide, qa), scale, 0.0);
-            let wb = geometry_weight(gp, load_guide(guide, qb), scale, 0.0);
-            let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
-            d.x += 1;
-            if d.x > 1 {
-                d = vec2i(-1, d.y + 1);
-            }
-            let ta = textureLoad(tex, qa);
-            let tb = textureLoad(tex, qb);
-            light = spread_add(spread_add(light, wa, ta.rgb), wb, tb.rgb);
-            if blurred {
-                sum += kernel * (ta.a + tb.a);
-            }
-            if with_direct && (!temporal_direct || blurred_d) {
-                let da = textureLoad(dtex, qa);
-                let db = textureLoad(dtex, qb);
-                if blurred_d {
-                    sum_d += kernel * (da.a + db.a);
-                } else {
-                    direct = spread_add(spread_add(direct, wa, da.rgb), wb, db.rgb);
-                }
-            }
-            wsum += wa + wb;
-        }
-        // (wsum >= 1: the centre counts with weight 1.)
-        value = mix(value, light.sum / wsum, blur);
-        if spatial_variance {
-            var_mean = spread_variance(light, wsum, n, params.boost);
-        }
-        if with_direct && !temporal_direct {
-            var_d = spread_variance(direct, wsum, n, params.direct_boost);
-        }
-    }
-    let blur_light = !spatial_variance && !blurred;
-    let blur_direct = temporal_direct && !blurred_d;
-    if blur_light || blur_direct {
-        // 1/4, 1/2, 1/4 in each axis over the 3x3 pixels, surfaces or not:
-        // only the noise's level is blurred. The centre, then opposite
-        // pairs, as above.
-        let pairs = 4u * u32(frame.exact_one);
-        var d = vec2i(-1, -1);
-        for (var k = 0u; k < pairs; k++) {
-            let qa = clamp(p + d, vec2i(0), size - 1);
-            let qb = clamp(p - d, vec2i(0), size - 1);
-            let kernel = select(0.5, 0.25, d.x != 0) * select(0.5, 0.25, d.y != 0);
-            if blur_light {
-                sum += kernel * (textureLoad(tex, qa).a + textureLoad(tex, qb).a);
-            }
-            if blur_direct {
-                sum_d += kernel * (textureLoad(dtex, qa).a + textureLoad(dtex, qb).a);
-            }
-            d.x += 1;
-            if d.x > 1 {
-                d = vec2i(-1, 0);
-            }
-        }
-    }
-    if !spatial_variance {
-        var_mean = sum;
-    }
-    if temporal_direct {
-        var_d = sum_d;
+    if with_direct {
+        var_d = select(spread_variance(s.direct, s.wsum, n, params.direct_boost), s.blurred_d, temporal_direct);
     }
     return Estimate(vec4f(value, var_mean), vec4f(own_d.rgb, var_d));
+}
+
+// The pixel whose neighbours are summed: its surface, and how far apart
+// its taps lie.
+struct Centre {
+    p: vec2i,
+    guide: Guide,
+    plane_scale: f32,
+    step: i32,
+    step_d: i32,
+    // Whether the direct light takes the spread (else its moments' blur).
+    direct_spread: bool,
+}
+
+// The running sums over the neighbours: the spreads, their weights, and
+// the moments' variances blurred.
+struct Sums {
+    light: Spread,
+    direct: Spread,
+    wsum: f32,
+    blurred: f32,
+    blurred_d: f32,
+}
+
+// The neighbours at d and -d added, `kernel` the blur's weight of each.
+fn add_neighbours(s: Sums, c: Centre, d: vec2i, kernel: f32, tex: texture_storage_2d<rgba32float, read>, dtex: texture_storage_2d<rgba32float, read>, with_direct: bool) -> Sums {
+    let size = vec2i(frame.size);
+    let qa = clamp(c.p + d * c.step, vec2i(0), size - 1);
+    let qb = clamp(c.p - d * c.step, vec2i(0), size - 1);
+    let ta = textureLoad(tex, qa);
+    let tb = textureLoad(tex, qb);
+    let scale = c.plane_scale * inverseSqrt(f32(dot(d, d) * c.step * c.step));
+    let wa = geometry_weight(c.guide, load_guide(guide, qa), scale, 0.0);
+    let wb = geometry_weight(c.guide, load_guide(guide, qb), scale, 0.0);
+    var out = s;
+    out.light = spread_add(spread_add(s.light, wa, ta.rgb), wb, tb.rgb);
+    out.wsum = s.wsum + (wa + wb);
+    out.blurred = s.blurred + kernel * (ta.a + tb.a);
+    if with_direct {
+        let da = textureLoad(dtex, clamp(c.p + d * c.step_d, vec2i(0), size - 1));
+        let db = textureLoad(dtex, clamp(c.p - d * c.step_d, vec2i(0), size - 1));
+        out.blurred_d = s.blurred_d + kernel * (da.a + db.a);
+        if c.direct_spread {
+            out.direct = spread_add(spread_add(s.direct, wa, da.rgb), wb, db.rgb);
+        }
+    }
+    return out;
 }
