@@ -353,10 +353,11 @@ fn last_split(@builtin(global_invocation_id) id: vec3u) {
 
 // The pairs' entries: `main` and `last_split` two pixels an invocation
 // (`main_split`'s pairs, which load the direct light too, took 1.09x its
-// time: twelve texels of three textures held at once). A row may hold a few more pairs than half its width, but
-// never more than the dispatch's whole workgroups of 128 lanes cover
-// while 2 STEP divides 256 (the graphs' steps are powers of two up to 16).
-// (A loop over pairs, for any STEP, took 1.4-1.7x the time on lavapipe.)
+// time: twelve texels of three textures held at once). A row may hold a
+// few more pairs than half its width, but never more than the dispatch's
+// whole workgroups of 128 lanes cover while 2 STEP divides 256 (the
+// graphs' steps are powers of two up to 16). (A loop over pairs, for any
+// STEP, took 1.4-1.7x the time on lavapipe.)
 @compute @workgroup_size(128, 1)
 fn main_pairs(@builtin(global_invocation_id) id: vec3u) {
     if id.x < row_pairs() && id.y < frame.size.y {

@@ -7,9 +7,10 @@
 // own samples are then a low-discrepancy sequence, each still uniform.
 // The numbers are the ranks' bins' lower ends moved along the sequence,
 // the same for every seed: a white-noise jitter within each rank's 1/4096
-// cost the path pass 8% at 1280x720 (eight draws a pixel, on every trip of
-// its loop), and a random shift per seed made the temporal gradients
-// miss a moved light's change (docs/realtime.md, "Blue-noise first hits").
+// took eight draws a pixel on every trip of the path loop (the path pass
+// 0.97-0.99x without it at 1280x720), and a random shift per seed made the
+// temporal gradients miss a moved light's change (docs/realtime.md, "No
+// jitter within a rank's bin").
 
 @group(1) @binding(13) var blue_noise: texture_storage_2d<rgba32uint, read>;
 
