@@ -446,7 +446,9 @@ fn a_mirrors_outline_keeps_its_contrast_in_the_first_frame() {
 /// The filter's passes thin their still frames (`ThinWhenStill(after: 8,
 /// every: 4)` in passes/realtime.ron): in the frames they skip the image
 /// stays what their last run made, and a frame they run in (or one shown
-/// in full) is the image the graph makes without thinning, bit for bit.
+/// in full) is the image the graph makes without thinning, bit for bit,
+/// though in the frames they skip the path pass and `temporal` store only
+/// what the history takes (THIN_STORES under the THINNED frame kind).
 #[test]
 fn thinned_still_frames_keep_the_last_image_and_change_no_filtered_one() {
     let Some(gpu) = gpu() else { return };

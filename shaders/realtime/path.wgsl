@@ -24,9 +24,27 @@
 // position and normal (to measure what unfolding brings).
 override UNFOLD_MIRRORS: bool = true;
 
+// THIN_STORES (the graph's, set on `temporal` too, which then reads it):
+// in a frame whose filter does not run (THINNED, set by the engine per
+// frame, src/graph/frame_kind.rs), one texel a pixel, what `temporal`
+// folds into the history (pack_thin_sample), instead of two: a CPU driver
+// runs each store of the path loop on every trip under its lane mask.
+// gbuf_hit is then left as it was: no pass but `temporal` may read the
+// path pass's outputs in such a frame.
+override THIN_STORES: bool = false;
+override THINNED: bool = false;
+
 // The first hit's position with the sample (pack_position_sample), and the
 // rest of the hit.
 fn store_sample(pixel: vec2u, radiance_in: vec3f, pos: vec4f, normal: vec4f, ids: vec4u) {
+    // (Without SPLIT_DIRECT the direct light is a constant 0, and its
+    // packing, which runs on every trip of the path loop, folds away.)
+    let direct = select(vec3f(0.0), path_pixel_direct, SPLIT_DIRECT);
+    if THIN_STORES && THINNED {
+        let surface = pos.w >= 0.0 && path_primary_albedo.w > 0.0;
+        textureStore(gbuf_sample, pixel, pack_thin_sample(pack_sample(radiance_in, sample_dither(pixel)), path_primary_albedo.rgb, surface, direct));
+        return;
+    }
     var p = pos.xyz;
     var n = normal.xyz;
     if UNFOLD_MIRRORS && THROUGH_MIRRORS && path_primary_through && pos.w >= 0.0 {
@@ -38,8 +56,5 @@ fn store_sample(pixel: vec2u, radiance_in: vec3f, pos: vec4f, normal: vec4f, ids
         }
     }
     textureStore(gbuf_sample, pixel, pack_position_sample(p, radiance_in, sample_dither(pixel)));
-    // (Without SPLIT_DIRECT the direct light is a constant 0, and its
-    // packing, which runs on every trip of the path loop, folds away.)
-    let direct = select(vec3f(0.0), path_pixel_direct, SPLIT_DIRECT);
     textureStore(gbuf_hit, pixel, pack_first_hit(vec4f(n, normal.w), path_primary_albedo, first_hit_error_bits(pos, ids.z, path_primary_through), direct));
 }

@@ -182,9 +182,25 @@ fn demodulate(l: vec3f, a: vec3f) -> vec3f {
     return select(vec3f(0.0), l / max(a, vec3f(1e-3)), a > vec3f(1e-3));
 }
 
+// With THIN_STORES (set with the path pass's, realtime/path.wgsl): in a
+// frame whose filter does not run (THINNED, from the engine like the
+// flags above; always a still frame with history) the path pass stores
+// only what the history takes (pack_thin_sample), and this pass writes
+// only the history: no filter input or guide, which no pass reads there.
+override THIN_STORES: bool = false;
+override THINNED: bool = false;
+
+fn thinned() -> bool {
+    return THIN_STORES && THINNED;
+}
+
 @compute @workgroup_size(128, 1)
 fn main(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
+        return;
+    }
+    if thinned() {
+        thin_step(id.xy);
         return;
     }
     temporal_step(id.xy);
@@ -195,7 +211,82 @@ fn split(@builtin(global_invocation_id) id: vec3u) {
     if !in_frame(id) {
         return;
     }
+    if thinned() {
+        thin_step(id.xy);
+        return;
+    }
     textureStore(direct_in, id.xy, temporal_step(id.xy));
+}
+
+// This frame's sample of a pixel as the history takes it.
+struct Sample {
+    // The radiance R (0 where not finite: `valid` false).
+    l: vec3f,
+    // The albedo A (0 where the hit is no lit surface).
+    a: vec3f,
+    // The demodulated light I, and lum(I) and lum(D / A).
+    i: vec3f,
+    lum_i: f32,
+    lum_d: f32,
+    valid: bool,
+}
+
+fn take_sample(radiance: vec3f, surface: bool, albedo: vec3f, direct: vec3f) -> Sample {
+    let a = select(vec3f(0.0), albedo, surface);
+    var l = radiance;
+    let valid = all_finite(l);
+    l = select(vec3f(0.0), max(l, vec3f(0.0)), valid);
+    // The light the hit received directly stays out of the filtered
+    // signal (SPLIT_DIRECT): R holds it, entry `split` hands it to a filter
+    // of its own, and this one sees the rest, the noisier light of later
+    // bounces.
+    let d = select(vec3f(0.0), min(direct, l), surface);
+    let i = demodulate(l - d, a);
+    return Sample(l, a, i, luminance(i), luminance(demodulate(d, a)), valid);
+}
+
+// The history `h`, cut to `n` samples, with the sample added (`h.n` the
+// new length).
+fn fold(h_in: State, n_in: f32, s: Sample) -> State {
+    var h = h_in;
+    var n = n_in;
+    if s.valid {
+        let k = 1.0 / (n + 1.0);
+        h.illum = mix(h.illum, s.i, k);
+        h.color = mix(h.color, s.l, k);
+        h.albedo = mix(h.albedo, s.a, k);
+        h.m2 = mix(h.m2, s.lum_i * s.lum_i, k);
+        h.m2_direct = mix(h.m2_direct, s.lum_d * s.lum_d, k);
+        n += 1.0;
+    }
+    h.n = n;
+    return h;
+}
+
+fn store_history(pixel: vec2u, h: State) {
+    textureStore(illum, pixel, vec4f(h.illum, h.n));
+    textureStore(color, pixel, vec4f(h.color, h.m2));
+    textureStore(albedo, pixel, vec4f(h.albedo, h.m2_direct));
+}
+
+// The pixel's temporal step in a frame whose filter does not run: a still
+// frame (the filter thins only those), so the history is the pixel's own
+// texel, as still_history keeps it in a still scene. `geo` keeps last
+// frame's normal and distance (this frame's jittered hit is not stored)
+// with this frame's sample luminance for the gradients.
+fn thin_step(pixel: vec2u) {
+    let t = textureLoad(gbuf_sample, pixel);
+    let s = take_sample(unpack_sample(t.x), (t.y & LIT_SURFACE_BIT) != 0u, unpack_albedo(t.y), unpack_rgb9e5(t.z));
+    var h = load_state(vec2i(pixel));
+    if h.n < 1.0 {
+        h = no_state();
+    }
+    var n = h.n;
+    if params.max_history > 0u {
+        n = min(n, f32(params.max_history));
+    }
+    store_history(pixel, fold(h, n, s));
+    textureStore(geo, pixel, vec4f(textureLoad(geo_prev, pixel).xyz, luminance(s.l)));
 }
 
 // The pixel's temporal step; returns the direct light's filter input.
@@ -207,18 +298,7 @@ fn temporal_step(pixel: vec2u) -> vec4f {
     // its ray's direction), as reprojection takes them.
     let g = vec4f(ps.p, select(length(ps.p - frame.camera.origin), -1.0, miss));
     let surface = !miss && hit.lit;
-    let a = select(vec3f(0.0), hit.albedo, surface);
-    var l = ps.sample;
-    let valid = all_finite(l);
-    l = select(vec3f(0.0), max(l, vec3f(0.0)), valid);
-    // The light the hit received directly stays out of the filtered
-    // signal (SPLIT_DIRECT): R holds it, entry `split` hands it to a filter
-    // of its own, and this one sees the rest, the noisier light of later
-    // bounces.
-    let d = select(vec3f(0.0), min(hit.direct, l), surface);
-    let i_s = demodulate(l - d, a);
-    let lum_s = luminance(i_s);
-    let lum_d = luminance(demodulate(d, a));
+    let s = take_sample(ps.sample, surface, hit.albedo, hit.direct);
 
     var h = no_state();
     if !NO_HISTORY && frame.history_frames > 0u {
@@ -240,21 +320,12 @@ fn temporal_step(pixel: vec2u) -> vec4f {
         let lambda = min(params.gradient_gain * changed_share(gradient, then.xy, true), 1.0);
         n = min(n, (1.0 - lambda) / max(lambda, 1e-6));
     }
-    if valid {
-        let k = 1.0 / (n + 1.0);
-        h.illum = mix(h.illum, i_s, k);
-        h.color = mix(h.color, l, k);
-        h.albedo = mix(h.albedo, a, k);
-        h.m2 = mix(h.m2, lum_s * lum_s, k);
-        h.m2_direct = mix(h.m2_direct, lum_d * lum_d, k);
-        n += 1.0;
-    }
-    textureStore(illum, pixel, vec4f(h.illum, n));
+    h = fold(h, n, s);
+    n = h.n;
+    store_history(pixel, h);
     let m1 = luminance(h.illum);
     textureStore(filter_in, pixel, vec4f(h.illum, max(h.m2 - m1 * m1, 0.0) / max(n, 1.0)));
-    textureStore(color, pixel, vec4f(h.color, h.m2));
-    textureStore(albedo, pixel, vec4f(h.albedo, h.m2_direct));
-    textureStore(geo, pixel, vec4f(select(normal_to_oct(hit.n), vec2f(0.0), miss), select(g.w, -1.0, miss), luminance(l)));
+    textureStore(geo, pixel, vec4f(select(normal_to_oct(hit.n), vec2f(0.0), miss), select(g.w, -1.0, miss), luminance(s.l)));
     let rel = g.xyz - frame.camera.origin;
     textureStore(guide, pixel, vec4u(bitcast<vec3u>(rel), select(NO_SURFACE, pack_guide_normal(hit.n, hit.through_mirror), surface)));
     // The direct light's mean: what R holds beyond A I (exactly the mean

@@ -80,9 +80,32 @@ fn first_hit_error_bits(pos: vec4f, error_bits: u32, through_mirror: bool) -> u3
 }
 
 fn pack_first_hit(normal: vec4f, albedo: vec4f, error_bits: u32, direct: vec3f) -> vec4u {
-    let q = vec3u(round(clamp(albedo.rgb, vec3f(0.0), vec3f(1.0)) * 1023.0));
     let flags = select(0u, VIEW_DEPENDENT_BIT, normal.w > 0.0) | select(0u, LIT_SURFACE_BIT, albedo.w > 0.0);
-    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), q.r | (q.g << 10u) | (q.b << 20u) | flags, error_bits, pack_rgb9e5(direct));
+    return vec4u(pack2x16snorm(normal_to_oct(normal.xyz)), pack_albedo(albedo.rgb) | flags, error_bits, pack_rgb9e5(direct));
+}
+
+// The albedo's 10 bits a channel (gbuf_hit's y without its flags).
+fn pack_albedo(albedo: vec3f) -> u32 {
+    let q = vec3u(round(clamp(albedo, vec3f(0.0), vec3f(1.0)) * 1023.0));
+    return q.r | (q.g << 10u) | (q.b << 20u);
+}
+
+fn unpack_albedo(y: u32) -> vec3f {
+    return vec3f(vec3u(y & 0x3ffu, (y >> 10u) & 0x3ffu, (y >> 20u) & 0x3ffu)) / 1023.0;
+}
+
+// `gbuf_sample` in a frame whose filter does not run (THINNED, with
+// THIN_STORES on the path pass and `temporal`): only what `temporal`
+// folds into the history, in one texel, so that the path pass stores one
+// texel a pixel there instead of two:
+//   x: the sample (pack_sample);
+//   y: the albedo (pack_albedo), LIT_SURFACE_BIT set where the hit is a
+//      lit surface and not a miss;
+//   z: the light the hit received directly, RGB9E5 (as gbuf_hit's w).
+// The same bits as gbuf_sample's w and gbuf_hit's y and w, so the history
+// is the same bit for bit; gbuf_hit is left as it was.
+fn pack_thin_sample(sample_bits: u32, albedo: vec3f, surface: bool, direct: vec3f) -> vec4u {
+    return vec4u(sample_bits, pack_albedo(albedo) | select(0u, LIT_SURFACE_BIT, surface), pack_rgb9e5(direct), 0u);
 }
 
 // What gbuf_hit holds, unpacked.
@@ -98,7 +121,7 @@ struct FirstHit {
 }
 
 fn unpack_first_hit(h: vec4u) -> FirstHit {
-    let albedo = vec3f(vec3u(h.y & 0x3ffu, (h.y >> 10u) & 0x3ffu, (h.y >> 20u) & 0x3ffu)) / 1023.0;
+    let albedo = unpack_albedo(h.y);
     let miss = h.z == MISS_ERROR_BITS;
     return FirstHit(miss, oct_to_normal(unpack2x16snorm(h.x)), (h.y & VIEW_DEPENDENT_BIT) != 0u, (h.y & LIT_SURFACE_BIT) != 0u, albedo, bitcast<f32>(h.z & 0x7fffffffu), unpack_rgb9e5(h.w), !miss && h.z >= 0x80000000u);
 }

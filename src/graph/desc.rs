@@ -198,6 +198,15 @@ impl RunMode {
         }
     }
 
+    /// Whether a `ThinWhenStill` pass runs in a frame `still` frames into
+    /// a still image (None: a frame shown in full); None for other modes.
+    pub fn thin_runs(self, still: Option<u32>) -> Option<bool> {
+        match self {
+            RunMode::ThinWhenStill { after, every } => Some(still.is_none_or(|s| s < after || s % every.max(1) == 0)),
+            _ => None,
+        }
+    }
+
     /// As `graph check` prints it.
     pub fn describe(self) -> String {
         match self {

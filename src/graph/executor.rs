@@ -453,6 +453,14 @@ impl Executor {
         plan
     }
 
+    /// Whether the graph thins its still frames and none of its passes
+    /// that do runs in a frame `still` frames into a still image (None: a
+    /// frame shown in full): the frame kind THINNED (frame_kind.rs).
+    pub fn thins(&self, still: Option<u32>) -> bool {
+        let mut thinning = self.schedule.passes.iter().filter_map(|sp| sp.run.thin_runs(still)).peekable();
+        thinning.peek().is_some() && thinning.all(|runs| !runs)
+    }
+
     /// Whether a pass that fills persistent resources on its own schedule
     /// (a bake: not every frame, not only after its inputs) will run in the
     /// next frame with the scene at `epoch`.

@@ -23,8 +23,14 @@ pub const SCENE_STILL: &str = "SCENE_STILL";
 /// frame, or the first after a reset).
 pub const NO_HISTORY: &str = "NO_HISTORY";
 
+/// Set in frames in which none of the graph's passes that thin their
+/// still frames (`ThinWhenStill`) runs (`Executor::thins`), always still
+/// ones: a pass that feeds only them may leave out what they alone read
+/// (THIN_STORES, shaders/realtime/path.wgsl).
+pub const THINNED: &str = "THINNED";
+
 /// Every per-frame constant; a graph cannot set them.
-pub const FRAME_CONSTANTS: [&str; 3] = [CAMERA_STILL, SCENE_STILL, NO_HISTORY];
+pub const FRAME_CONSTANTS: [&str; 4] = [CAMERA_STILL, SCENE_STILL, NO_HISTORY, THINNED];
 
 /// What a frame is, as the per-frame constants say it.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -35,21 +41,24 @@ pub struct FrameKind {
     pub scene_still: bool,
     /// The frame has no history.
     pub no_history: bool,
+    /// The graph's thinning passes all skip the frame (a still frame with
+    /// history).
+    pub thinned: bool,
 }
 
 /// Which of FRAME_CONSTANTS a shader declares, in that order.
-pub type Declared = [bool; 3];
+pub type Declared = [bool; 4];
 
 impl FrameKind {
     /// The generic kind: no flag set.
-    pub const GENERIC: FrameKind = FrameKind { camera_still: false, scene_still: false, no_history: false };
+    pub const GENERIC: FrameKind = FrameKind { camera_still: false, scene_still: false, no_history: false, thinned: false };
 
-    fn flags(self) -> [bool; 3] {
-        [self.camera_still, self.scene_still, self.no_history]
+    fn flags(self) -> [bool; 4] {
+        [self.camera_still, self.scene_still, self.no_history, self.thinned]
     }
 
-    fn from_flags(f: [bool; 3]) -> FrameKind {
-        FrameKind { camera_still: f[0], scene_still: f[1], no_history: f[2] }
+    fn from_flags(f: [bool; 4]) -> FrameKind {
+        FrameKind { camera_still: f[0], scene_still: f[1], no_history: f[2], thinned: f[3] }
     }
 
     /// The flags a shader declaring `declared` tells apart in this frame:
@@ -61,19 +70,24 @@ impl FrameKind {
             return FrameKind { no_history: true, ..Self::GENERIC };
         }
         let f = self.flags();
-        FrameKind::from_flags([f[0] && declared[0], f[1] && declared[1], false])
+        // THINNED only in a still frame (where the engine sets it): one
+        // pipeline more, not one per camera and scene flag.
+        let thinned = f[3] && declared[3] && f[0] && f[1];
+        FrameKind::from_flags([f[0] && declared[0], f[1] && declared[1], false, thinned])
     }
 
     /// The kinds a shader declaring `declared` gets a pipeline for besides
     /// the generic one: every combination of its camera and scene flags,
-    /// and NO_HISTORY alone.
+    /// a still frame that is THINNED, and NO_HISTORY alone.
     pub fn variants(declared: Declared) -> Vec<FrameKind> {
         let mut out = Vec::new();
         for camera_still in [false, true] {
             for scene_still in [false, true] {
-                let k = FrameKind { camera_still, scene_still, no_history: false }.seen_by(declared);
-                if k != Self::GENERIC && !out.contains(&k) {
-                    out.push(k);
+                for thinned in [false, true] {
+                    let k = FrameKind { camera_still, scene_still, no_history: false, thinned }.seen_by(declared);
+                    if k != Self::GENERIC && !out.contains(&k) {
+                        out.push(k);
+                    }
                 }
             }
         }
@@ -101,30 +115,41 @@ mod tests {
 
     #[test]
     fn a_shader_gets_a_pipeline_per_kind_of_frame_it_tells_apart() {
-        assert!(FrameKind::variants([false; 3]).is_empty());
+        assert!(FrameKind::variants([false; 4]).is_empty());
         let camera = FrameKind { camera_still: true, ..FrameKind::GENERIC };
-        assert_eq!(FrameKind::variants([true, false, false]), vec![camera]);
+        assert_eq!(FrameKind::variants([true, false, false, false]), vec![camera]);
         // Camera and scene: three besides the generic one; with
-        // NO_HISTORY, a fourth.
-        assert_eq!(FrameKind::variants([true, true, false]).len(), 3);
-        let all = FrameKind::variants([true, true, true]);
+        // NO_HISTORY, a fourth; with THINNED, a fifth (still frames only).
+        assert_eq!(FrameKind::variants([true, true, false, false]).len(), 3);
+        let all = FrameKind::variants([true, true, true, false]);
         assert_eq!(all.len(), 4);
         assert!(all.contains(&FrameKind { no_history: true, ..FrameKind::GENERIC }));
+        let thin = FrameKind::variants([true, true, true, true]);
+        assert_eq!(thin.len(), 5);
+        assert!(thin.contains(&FrameKind { camera_still: true, scene_still: true, thinned: true, ..FrameKind::GENERIC }));
+        // A shader that tells apart only THINNED: one pipeline more.
+        assert_eq!(FrameKind::variants([false, false, false, true]), vec![FrameKind { thinned: true, ..FrameKind::GENERIC }]);
     }
 
     #[test]
     fn a_frame_is_seen_only_through_the_flags_a_shader_declares() {
-        let first = FrameKind { camera_still: true, scene_still: true, no_history: true };
+        let first = FrameKind { camera_still: true, scene_still: true, no_history: true, thinned: false };
         // A shader that knows NO_HISTORY needs nothing else there...
-        assert_eq!(first.seen_by([true, true, true]), FrameKind { no_history: true, ..FrameKind::GENERIC });
+        assert_eq!(first.seen_by([true, true, true, true]), FrameKind { no_history: true, ..FrameKind::GENERIC });
         // ...one that does not still takes its still-camera pipeline.
-        assert_eq!(first.seen_by([true, false, false]), FrameKind { camera_still: true, ..FrameKind::GENERIC });
-        assert_eq!(first.seen_by([false; 3]), FrameKind::GENERIC);
+        assert_eq!(first.seen_by([true, false, false, false]), FrameKind { camera_still: true, ..FrameKind::GENERIC });
+        assert_eq!(first.seen_by([false; 4]), FrameKind::GENERIC);
+        // A thinned frame is a still one; a shader that knows only THINNED
+        // sees only that.
+        let thinned = FrameKind { camera_still: true, scene_still: true, no_history: false, thinned: true };
+        assert_eq!(thinned.seen_by([false, false, false, true]), FrameKind { thinned: true, ..FrameKind::GENERIC });
+        assert_eq!(thinned.seen_by([true, true, true, false]), FrameKind { thinned: false, ..thinned });
         // Whatever the frame, what a shader sees is one of its pipelines.
-        for f in 0..8u8 {
-            let kind = FrameKind::from_flags([f & 1 != 0, f & 2 != 0, f & 4 != 0]);
-            for d in 0..8u8 {
-                let declared = [d & 1 != 0, d & 2 != 0, d & 4 != 0];
+        let bits = |f: u8| [f & 1 != 0, f & 2 != 0, f & 4 != 0, f & 8 != 0];
+        for f in 0..16u8 {
+            let kind = FrameKind::from_flags(bits(f));
+            for d in 0..16u8 {
+                let declared = bits(d);
                 let seen = kind.seen_by(declared);
                 assert!(seen == FrameKind::GENERIC || FrameKind::variants(declared).contains(&seen), "{kind:?} seen by {declared:?}");
             }
@@ -135,6 +160,7 @@ mod tests {
     fn the_constants_are_the_flags_set() {
         assert!(FrameKind::GENERIC.constants().is_empty());
         assert_eq!(FrameKind { scene_still: true, no_history: true, ..FrameKind::GENERIC }.constants(), vec![(SCENE_STILL, 1.0), (NO_HISTORY, 1.0)]);
-        assert_eq!(declared(["STEP", "NO_HISTORY"]), [false, false, true]);
+        assert_eq!(FrameKind { thinned: true, ..FrameKind::GENERIC }.constants(), vec![(THINNED, 1.0)]);
+        assert_eq!(declared(["STEP", "NO_HISTORY"]), [false, false, true, false]);
     }
 }

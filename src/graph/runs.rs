@@ -56,7 +56,7 @@ impl RunState {
             }
             RunMode::OnSceneChangeWithHistory => u32::from(changed),
             RunMode::OnInputChange => u32::from(self.last_epoch.is_none() || inputs_ran),
-            RunMode::ThinWhenStill { after, every } => u32::from(still.is_none_or(|s| s < after || s % every.max(1) == 0)),
+            RunMode::ThinWhenStill { .. } => u32::from(mode.thin_runs(still) == Some(true)),
             RunMode::Progressive { per_frame, until: None } => per_frame,
             RunMode::Progressive { per_frame, until: Some(u) } => per_frame.min(u.saturating_sub(since)),
         };

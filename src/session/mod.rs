@@ -258,6 +258,7 @@ impl Session {
         let probes = grid.map(|g| (g.origin - 0.5 * g.spacing, g.position(g.counts - glam::UVec3::ONE) + 0.5 * g.spacing));
         self.scene.buffers.set_origins(&self.gpu.queue, &Viewpoints { camera: camera.origin.into(), probes, pixels: Some(camera.pixel_camera(self.size)) });
         let data = &self.scene.buffers.data;
+        let still = if std::mem::take(&mut st.full_next) { None } else { Some(st.accum_count) };
         let frame = FrameGpu {
             camera,
             prev_camera,
@@ -294,9 +295,10 @@ impl Session {
             camera_still: specialise && bytemuck::bytes_of(&frame.camera) == bytemuck::bytes_of(&frame.prev_camera),
             scene_still: specialise && (st.epoch_frames > 0 || st.history_frames == 0),
             no_history: specialise && st.history_frames == 0,
+            thinned: specialise && self.executor.thins(still),
         };
         self.executor.has_history = st.history_frames > 0;
-        self.executor.still_frames = if std::mem::take(&mut st.full_next) { None } else { Some(st.accum_count) };
+        self.executor.still_frames = still;
         let timings = self.executor.run_frame_with(&self.gpu, self.timing, epoch, hook);
         st.last = Some((world_camera, epoch));
         st.cone_scale = cone_scale;
