@@ -149,3 +149,34 @@ fn paired_filter_steps_make_the_one_pixel_steps_image() {
         assert!(images[0].data == images[1].data, "{name} at {size:?}: the paired steps' image differs from the one-pixel steps'");
     }
 }
+
+/// Sessions whose frames are watched or timed dispatch every pipeline once
+/// with no workgroups before the first frame (`warm_pipelines`: a driver
+/// that compiles at the first dispatch then does not stall the first frame
+/// of each kind). The dispatches write nothing: the images are the same bit
+/// for bit, through the thinned still frames, in motion, and on a graph
+/// whose passes bake a volume and list their work.
+#[test]
+fn warming_the_pipelines_changes_no_image() {
+    let Some(gpu) = gpu() else { return };
+    for (graph, name, frames, dt) in [
+        ("realtime.ron", "cornell.ron", 11, 0.0),
+        ("realtime.ron", "moving-lights.ron", 4, 1.0 / 30.0),
+        ("hybrid-gi.ron", "cornell.ron", 3, 0.0),
+    ] {
+        let images: Vec<_> = [false, true]
+            .iter()
+            .map(|&warm| {
+                let scene = load_scene(name);
+                let compiled = compile(&scene, &repo().join("passes").join(graph), &CompileOptions::default());
+                let options = glint::session::SessionOptions { warm_pipelines: warm, ..glint::session::SessionOptions::new(SIZE) };
+                let mut s = glint::session::Session::with_graph(gpu, scene, compiled, repo().join("shaders"), options).unwrap_or_else(|e| panic!("{e}"));
+                for k in 0..frames {
+                    s.frame(k as f32 * dt);
+                }
+                s.read_output().unwrap_or_else(|e| panic!("{e}"))
+            })
+            .collect();
+        assert!(images[0].data == images[1].data, "{graph} on {name}: the image differs once the pipelines were warmed");
+    }
+}

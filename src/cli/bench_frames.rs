@@ -52,7 +52,8 @@ impl Side {
     fn new(gpu: &Gpu, args: &FramesArgs, graph: &std::path::Path) -> Result<Side, UserError> {
         let scene = crate::scene::load(&args.scene)?;
         let camera = scene.camera;
-        let mut session = Session::new(gpu, scene, graph, SessionOptions::new(args.size))?;
+        let options = SessionOptions { warm_pipelines: true, ..SessionOptions::new(args.size) };
+        let mut session = Session::new(gpu, scene, graph, options)?;
         session.timing = Timing::for_adapter(gpu, args.profile);
         // The same scene times on both sides, as `glint render` steps them.
         let frames = FrameLoop::new(0.0, Clock::Fixed { dt: 1.0 / 60.0 }, camera);

@@ -23,6 +23,9 @@ use crate::{image_io, metrics};
 pub(crate) fn session_for(gpu: &Gpu, scene: Scene, graph: &Path, size: (u32, u32), seed: u32, setting: &Setting) -> Result<Session, UserError> {
     let mut options = SessionOptions::new(size);
     options.seed = seed;
+    // The first frame of each kind would otherwise carry its pipelines'
+    // compile on a driver that compiles at the first dispatch (llvmpipe).
+    options.warm_pipelines = true;
     options.compile = CompileOptions { no_specialise: !setting.specialise, no_cull: !setting.cull, ..CompileOptions::default() };
     options.compile.edits.set = setting.param_sets();
     options.compile.edits.skip = setting.skip.clone();

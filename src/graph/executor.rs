@@ -362,6 +362,28 @@ impl Executor {
         Ok(Executor { schedule: schedule.clone(), size, textures, passes, pool_fixup, timer, parity, frame: 0, runs, run_records, textures_kept, frame_kind: FrameKind::GENERIC, has_history: false, still_frames: None })
     }
 
+    /// Dispatches every pipeline of every pass once with no workgroups, so
+    /// that a driver that compiles a pipeline's machine code at its first
+    /// dispatch (llvmpipe does) compiles them all now, not in the first
+    /// frame of each kind (a thinned frame's first run took 230-330 ms
+    /// more with a cold shader cache; docs/realtime.md). Writes nothing.
+    pub fn warm_pipelines(&self, gpu: &Gpu) {
+        let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("warm pipelines") });
+        for p in &self.passes {
+            let bind_groups = &p.bind_groups[usize::from(self.parity)];
+            for pipeline in p.pipeline.all() {
+                let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("warm"), timestamp_writes: None });
+                cp.set_pipeline(pipeline);
+                for (g, bg) in bind_groups {
+                    cp.set_bind_group(*g, bg, &[]);
+                }
+                cp.dispatch_workgroups(0, 0, 0);
+            }
+        }
+        gpu.queue.submit([enc.finish()]);
+        let _ = gpu.device.poll(wgpu::PollType::Wait { submission_index: None, timeout: Some(crate::gpu::gpu_timeout()) });
+    }
+
     /// Writes pass `pass`'s packed params (after `PassParams::set`).
     pub fn write_params(&self, queue: &wgpu::Queue, pass: usize, bytes: &[u8]) {
         if let Some(Some(buffer)) = self.passes.get(pass).map(|p| p.params.as_ref()) {

@@ -58,6 +58,13 @@ impl CachedPipeline {
             None => (&self.pipeline, self.listed.as_ref()),
         }
     }
+
+    /// Every pipeline built for the pass: the entry and listed entry,
+    /// generic and per kind of frame.
+    pub fn all(&self) -> impl Iterator<Item = &wgpu::ComputePipeline> {
+        let variants = self.variants.iter().flat_map(|(_, entry, listed)| std::iter::once(entry).chain(listed));
+        std::iter::once(&self.pipeline).chain(&self.listed).chain(variants)
+    }
 }
 
 /// Pipelines by key. Cloning is cheap (shared handles).

@@ -69,13 +69,21 @@ pub struct SessionOptions {
     pub compile: CompileOptions,
     /// The shader folder (default: next to the graph's folder).
     pub shader_dir: Option<PathBuf>,
+    /// Whether every pipeline is dispatched once before the first frame
+    /// (`Executor::warm_pipelines`), and again when another graph, scene
+    /// or pass set replaces the running one: a driver that compiles at the
+    /// first dispatch then does not stall the first frame of each kind.
+    /// For sessions whose frames are watched or timed (the viewer, `glint
+    /// trade`, `glint bench frames`); a hot reload of an edited file is
+    /// not warmed, so that its first frame shows as soon as it can.
+    pub warm_pipelines: bool,
 }
 
 impl SessionOptions {
     /// `size` with seed 1, default compile options and the shader folder
     /// next to the graph's.
     pub fn new(size: (u32, u32)) -> SessionOptions {
-        SessionOptions { size, seed: 1, compile: CompileOptions::default(), shader_dir: None }
+        SessionOptions { size, seed: 1, compile: CompileOptions::default(), shader_dir: None, warm_pipelines: false }
     }
 }
 
@@ -169,6 +177,8 @@ pub struct Session {
     pub timing: Timing,
     state: FrameState,
     retired: Vec<Retired>,
+    /// SessionOptions::warm_pipelines.
+    warm_pipelines: bool,
     /// Pipelines built since the session started (cache misses).
     pub pipelines_built: usize,
     /// Bumped by every commit: what was derived from the graph or its
@@ -202,6 +212,9 @@ impl Session {
         let set = PipelineCache::default().build(&gpu.device, gpu.pipeline_cache.as_deref(), &graph, &constants)?;
         graph::check_dispatches(&graph, options.size, gpu.device.limits().max_compute_workgroups_per_dimension)?;
         let executor = Executor::new(gpu, &graph.schedule, &set.per_pass, &|e| scene.binding(e, &frame_buffer), options.size, None)?;
+        if options.warm_pipelines {
+            executor.warm_pipelines(gpu);
+        }
         Ok(Session {
             gpu: gpu.clone(),
             pipelines_built: set.built.len(),
@@ -219,6 +232,7 @@ impl Session {
             timing: Timing::None,
             state: FrameState::default(),
             retired: Vec::new(),
+            warm_pipelines: options.warm_pipelines,
         })
     }
 
@@ -485,6 +499,9 @@ impl Session {
             textures_kept: executor.textures_kept,
             ms: r.started.elapsed().as_secs_f64() * 1e3,
         };
+        if self.warm_pipelines && !matches!(report.kind, RebuildKind::Shaders(_) | RebuildKind::Graph(_) | RebuildKind::Scene(_)) {
+            executor.warm_pipelines(&self.gpu);
+        }
         let old_executor = std::mem::replace(&mut self.executor, executor);
         let old_scene = r.scene.map(|s| std::mem::replace(&mut self.scene, s));
         let old_pipelines = std::mem::replace(&mut self.pipelines, r.pipelines.cache);

@@ -145,6 +145,7 @@ impl Viewer {
         let choice = crate::machines::choose(&gpu, options.graph.as_deref())?;
         let mut session_options = SessionOptions::new(options.size);
         session_options.seed = options.seed;
+        session_options.warm_pipelines = true;
         session_options.compile.edits.set = choice.params.clone();
         session_options.compile.keep = vec![REFLECT_REUSE.to_string()];
         session_options.size = choice.scaled(options.size);
