@@ -392,9 +392,9 @@ fn a_mirrors_outline_keeps_its_contrast_in_the_first_frame() {
     };
     let (reference, _) = render(&repo().join("passes/pathtrace.ron"), 256, 1, &[]);
     let text = std::fs::read_to_string(realtime()).unwrap_or_else(|e| panic!("{e}"));
-    // The path pass's constants come first.
+    // The graph's constants, which the path pass takes, come first.
     let constants = "constants: { THROUGH_MIRRORS: 1,";
-    assert!(text.contains(constants), "realtime.ron's path pass changed its constants");
+    assert!(text.contains(constants), "realtime.ron's constants changed");
     let folded = scratch("mirrors-unfolded").join("realtime-folded.ron");
     std::fs::write(&folded, text.replacen(constants, "constants: { UNFOLD_MIRRORS: 0, THROUGH_MIRRORS: 1,", 1)).unwrap_or_else(|e| panic!("{e}"));
     // What the mirror shows: the pixels whose guide the unfolding changes

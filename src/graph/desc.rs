@@ -27,6 +27,12 @@ pub struct FrameGraph {
     /// (sizes `ProbeTiles`, the `frame` uniform's probe fields).
     #[serde(default)]
     pub probes: Option<ProbesDesc>,
+    /// WGSL `override` constants for every pass whose shader declares one,
+    /// by name (a pass's own `constants` win): what passes must agree on
+    /// is set once (realtime.ron: the paths the path and gradient passes
+    /// trace, the texel layout the path pass stores and `temporal` reads).
+    #[serde(default, deserialize_with = "named_map")]
+    pub constants: BTreeMap<String, f64>,
 }
 
 /// Which irradiance volume a graph builds: chapter 3's hemisphere maps or

@@ -88,6 +88,7 @@ pub fn locate(e: &CompileError, path: &Path, text: &str) -> UserError {
     let line = match &e.pass {
         Some(p) => pass_line(text, p),
         None if e.kind == ErrorKind::UnknownOutput || e.kind == ErrorKind::UnwrittenRead => line_of(text, "output"),
+        None if e.kind == ErrorKind::UnknownConstant => line_of(text, "constants:"),
         None => line_of(text, "passes"),
     };
     UserError::at(Location::at(path, line.unwrap_or(0), 0), e.to_string())

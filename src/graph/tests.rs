@@ -963,5 +963,6 @@ fn errors_point_at_the_pass_not_a_namesake() {
     assert!(located.starts_with("g.ron:7:"), "{located}");
 }
 
+mod graph_constants;
 mod listed;
 mod pooled;

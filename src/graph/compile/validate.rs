@@ -69,11 +69,22 @@ pub(super) fn validate<'a>(
         } else {
             None
         };
-        let constants = check_constants(pass, shader)?;
+        let constants = check_constants(pass, shader, &desc.constants)?;
         plans.push(PassPlan { desc: pass, entry, listed, bindings, params, constants });
     }
     check_thinned_readers(desc, &plans)?;
+    check_graph_constants(desc, shaders)?;
     Ok(plans)
+}
+
+/// Every graph-wide constant is declared by some pass's shader (else it
+/// is a misspelling, which would otherwise change nothing).
+fn check_graph_constants(desc: &FrameGraph, shaders: &BTreeMap<String, ShaderInfo>) -> Result<(), CompileError> {
+    let declared = |k: &str| desc.passes.iter().filter_map(|p| shaders.get(&p.shader)).any(|s| s.overrides.iter().any(|o| o.name == k));
+    if let Some(k) = desc.constants.keys().find(|k| !declared(k)) {
+        return Err(err(ErrorKind::UnknownConstant, None, format!("graph constant `{k}`: no pass's shader declares `override {k}`")));
+    }
+    Ok(())
 }
 
 fn pick_entry<'a>(pass: &PassDesc, shader: &'a ShaderInfo) -> Result<&'a EntryInfo, CompileError> {
@@ -428,9 +439,17 @@ fn pack_params(pass: &PassDesc, shader: &ShaderInfo) -> Result<Option<PassParams
     })
 }
 
-fn check_constants(pass: &PassDesc, shader: &ShaderInfo) -> Result<Vec<(String, f64)>, CompileError> {
+/// The pass's constants, with the graph's for overrides its shader declares
+/// and the pass leaves unset, each checked against the shader.
+fn check_constants(pass: &PassDesc, shader: &ShaderInfo, graph: &BTreeMap<String, f64>) -> Result<Vec<(String, f64)>, CompileError> {
     let name = Some(pass.name.as_str());
-    for (k, v) in &pass.constants {
+    let mut constants = pass.constants.clone();
+    for (k, v) in graph {
+        if shader.overrides.iter().any(|o| &o.name == k) {
+            constants.entry(k.clone()).or_insert(*v);
+        }
+    }
+    for (k, v) in &constants {
         let Some(o) = shader.overrides.iter().find(|o| &o.name == k) else {
             return Err(err(
                 ErrorKind::UnknownConstant,
@@ -460,9 +479,9 @@ fn check_constants(pass: &PassDesc, shader: &ShaderInfo) -> Result<Vec<(String, 
             return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` = {shown} does not fit the shader's `override {k}: {ty}`: give {range}")));
         }
     }
-    if let Some(o) = shader.overrides.iter().find(|o| !o.has_default && !pass.constants.contains_key(&o.name)) {
+    if let Some(o) = shader.overrides.iter().find(|o| !o.has_default && !constants.contains_key(&o.name)) {
         return Err(err(ErrorKind::MissingConstant, name, format!("override `{}` has no default; give it in `constants`", o.name)));
     }
-    Ok(pass.constants.iter().map(|(k, v)| (k.clone(), *v)).collect())
+    Ok(constants.into_iter().collect())
 }
 
