@@ -365,8 +365,8 @@ impl Executor {
     /// Dispatches every pipeline of every pass once with no workgroups, so
     /// that a driver that compiles a pipeline's machine code at its first
     /// dispatch (llvmpipe does) compiles them all now, not in the first
-    /// frame of each kind (a thinned frame's first run took 230-330 ms
-    /// more with a cold shader cache; docs/realtime.md). Writes nothing.
+    /// frame of each kind (the first thinned frame took about 2 s with a
+    /// cold shader cache; docs/realtime.md). Writes nothing.
     pub fn warm_pipelines(&self, gpu: &Gpu) {
         let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("warm pipelines") });
         for p in &self.passes {

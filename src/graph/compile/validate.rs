@@ -457,8 +457,11 @@ fn check_constants(pass: &PassDesc, shader: &ShaderInfo, graph: &BTreeMap<String
                 format!("unknown constant `{k}`; {} overrides: {}", shader.name, names(shader.overrides.iter().map(|o| &o.name))),
             ));
         };
+        // A value from the graph's `constants` is named as such: the pass's
+        // own list does not hold it.
+        let whose = if pass.constants.contains_key(k) { "" } else { " (from the graph's `constants`)" };
         if crate::graph::frame_kind::FRAME_CONSTANTS.contains(&k.as_str()) {
-            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is set by the engine per frame (each kind of frame picks its pipeline); a graph cannot set it")));
+            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` is set by the engine per frame (each kind of frame picks its pipeline); a graph cannot set it{whose}")));
         }
         // Within the type's range too: the driver refuses a pipeline
         // constant that does not fit with a bare "Validation Error".
@@ -476,7 +479,7 @@ fn check_constants(pass: &PassDesc, shader: &ShaderInfo, graph: &BTreeMap<String
                 ScalarType::Bool => "bool",
             };
             let shown = crate::error::figure(*v);
-            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` = {shown} does not fit the shader's `override {k}: {ty}`: give {range}")));
+            return Err(err(ErrorKind::BadParam, name, format!("constant `{k}` = {shown} does not fit the shader's `override {k}: {ty}`: give {range}{whose}")));
         }
     }
     if let Some(o) = shader.overrides.iter().find(|o| !o.has_default && !constants.contains_key(&o.name)) {

@@ -46,10 +46,11 @@ fn a_graph_constant_no_shader_declares_is_an_error() {
 #[test]
 fn a_graph_constant_is_checked_against_each_shader() {
     let e = fail_with(&two_passes("", "SCALE: 1.0, FAST: 2"), &[constants_shader()]);
-    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `FAST` = 2 does not fit the shader's `override FAST: bool`"]);
+    check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `FAST` = 2 does not fit the shader's `override FAST: bool`", "(from the graph's `constants`)"]);
     // A pass's own value is checked in place of the graph's.
     let e = fail_with(&two_passes("MODE: 0.5", "SCALE: 1.0"), &[constants_shader()]);
     check(&e, ErrorKind::BadParam, Some("a"), None, &["constant `MODE` = 0.5 does not fit"]);
+    assert!(!e.message.contains("from the graph"), "{e}");
 }
 
 #[test]
